@@ -1,0 +1,14 @@
+#pragma once
+/// @file geovoronoi.hpp
+/// @brief Everything of the core library and its sequential backend.
+
+#include <geovoronoi/backend/seq.hpp>
+#include <geovoronoi/config.hpp>
+#include <geovoronoi/connectivity.hpp>
+#include <geovoronoi/error.hpp>
+#include <geovoronoi/grid.hpp>
+#include <geovoronoi/image.hpp>
+#include <geovoronoi/metric.hpp>
+#include <geovoronoi/problem.hpp>
+#include <geovoronoi/result.hpp>
+#include <geovoronoi/voronoi.hpp>

@@ -1,0 +1,115 @@
+#pragma once
+/// @file problem.hpp
+/// @brief A geodesic problem: the grid, the field, the metric and the connectivity, bundled into one
+///        trivially copyable view that every backend (and every kernel) takes.
+
+#include <geovoronoi/config.hpp>
+#include <geovoronoi/connectivity.hpp>
+#include <geovoronoi/error.hpp>
+#include <geovoronoi/grid.hpp>
+#include <geovoronoi/image.hpp>
+#include <geovoronoi/metric.hpp>
+
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace geovoronoi {
+
+/**
+ * @brief Everything that defines the weighted grid graph: grid, per-voxel field (stiffness or cost,
+ *        not owned), metric and connectivity resolved into a stencil.
+ *
+ * @tparam T      field and distance type: float or double.
+ * @tparam Dim    2 or 3.
+ * @tparam Metric edge-weight policy (see metric.hpp).
+ * @tparam N      connectivity (4, 8 in 2D; 6, 18, 26 in 3D).
+ *
+ * The field must outlive the problem. Build one with make_problem().
+ */
+template <class T, int Dim, class Metric, int N>
+struct problem {
+  static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>,
+                "geovoronoi::problem: the field/distance type must be float or double");
+  static_assert(connectivity<N>::dim == Dim,
+                "geovoronoi::problem: connectivity<4|8> needs a 2D grid, connectivity<6|18|26> a 3D grid");
+  static_assert(detail::is_metric_v<Metric, T>,
+                "geovoronoi::problem: Metric must be callable as T(T length, T from, T to) const");
+  static_assert(std::is_trivially_copyable_v<Metric>, "geovoronoi::problem: Metric must be trivially copyable");
+
+  using value_type = T;
+  using metric_type = Metric;
+  using connectivity_type = connectivity<N>;
+  static constexpr int dim = Dim;
+  static constexpr int neighbours = N;
+
+  grid<Dim> geometry{};
+  const T* field = nullptr;
+  Metric metric{};
+  stencil<T, Dim, N> edges{};
+
+  /// Whether voxel @p v belongs to the domain under the metric's mask rule.
+  GEOVORONOI_HOST_DEVICE bool inside(index_t v) const noexcept { return detail::inside<Metric>(field[v]); }
+  /// Weight of the edge from @p from to its neighbour number @p n, @p to.
+  GEOVORONOI_HOST_DEVICE T weight(index_t from, index_t to, int n) const noexcept {
+    return metric(edges.length[n], field[from], field[to]);
+  }
+};
+
+namespace detail {
+template <class T>
+struct field_ref {
+  const T* data;
+  std::size_t size;
+};
+template <class T, int Dim>
+field_ref<T> as_field(const image<T, Dim>& f, const grid<Dim>& g) {
+  if (f.geometry().extents() != g.extents())
+    throw std::invalid_argument("geovoronoi: the field image's extents differ from the grid's");
+  return {f.data(), static_cast<std::size_t>(f.size())};
+}
+template <class T, int Dim>
+field_ref<std::remove_const_t<T>> as_field(const image_view<T, Dim>& f, const grid<Dim>& g) {
+  if (f.geometry().extents() != g.extents())
+    throw std::invalid_argument("geovoronoi: the field view's extents differ from the grid's");
+  return {f.data(), static_cast<std::size_t>(f.size())};
+}
+template <class T, class A, int Dim>
+field_ref<T> as_field(const std::vector<T, A>& f, const grid<Dim>&) {
+  return {f.data(), f.size()};
+}
+}  // namespace detail
+
+/**
+ * @brief Bundle a grid, a field, a metric and a connectivity into a problem.
+ *
+ * @param g      the grid.
+ * @param field  g.size() values, x fastest: a std::vector<T>, an image<T, Dim> or an image_view.
+ * @param metric edge-weight policy, e.g. geovoronoi::min_stiffness{}.
+ * @param conn   e.g. geovoronoi::connectivity<26>{}.
+ * @throws std::invalid_argument if the field's size does not match the grid.
+ *
+ * @code
+ * std::vector<float> stiffness(g.size(), 1.0f);
+ * auto p = geovoronoi::make_problem(g, stiffness, geovoronoi::min_stiffness{}, geovoronoi::connectivity<26>{});
+ * @endcode
+ */
+template <int Dim, class Field, class Metric = min_stiffness, int N = (Dim == 2 ? 8 : 26)>
+auto make_problem(const grid<Dim>& g, const Field& field, Metric metric = {}, connectivity<N> conn = {}) {
+  const auto f = detail::as_field(field, g);
+  using T = std::remove_const_t<std::remove_pointer_t<decltype(f.data)>>;
+  static_assert(connectivity<N>::dim == Dim,
+                "geovoronoi::make_problem: connectivity<4|8> needs a 2D grid, connectivity<6|18|26> a 3D grid");
+  if (static_cast<index_t>(f.size) != g.size())
+    throw std::invalid_argument("geovoronoi: the field has " + std::to_string(f.size) + " values but the grid has " +
+                                std::to_string(g.size()) + " voxels");
+  if (g.size() == 0) throw std::invalid_argument("geovoronoi: the grid is empty");
+  problem<T, Dim, Metric, N> p;
+  p.geometry = g;
+  p.field = f.data;
+  p.metric = metric;
+  p.edges = stencil<T, Dim, N>(g, conn);
+  return p;
+}
+
+}  // namespace geovoronoi

@@ -1,0 +1,171 @@
+#pragma once
+/// @file voronoi.hpp
+/// @brief The solver entry points. Each takes a backend policy first (geovoronoi::seq,
+///        geovoronoi::thrust::par, geovoronoi::cuda::par), validates its arguments once, and forwards
+///        to that backend's implementation. A backend that lacks an operation is a compile error.
+
+#include <geovoronoi/detail/parents.hpp>
+#include <geovoronoi/detail/validate.hpp>
+#include <geovoronoi/grid.hpp>
+#include <geovoronoi/problem.hpp>
+#include <geovoronoi/result.hpp>
+
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace geovoronoi {
+
+namespace detail {
+template <class P, class Seeds>
+std::vector<source<typename P::value_type>> seeds_to_sources(const P& p, const Seeds& seeds) {
+  std::vector<source<typename P::value_type>> s;
+  label_t i = 0;
+  for (const auto& c : seeds) {
+    if (i == std::numeric_limits<label_t>::max()) throw std::invalid_argument("geovoronoi: too many seeds for 32-bit labels");
+    s.push_back({checked_voxel(p, coord<P::dim>(c), "seed " + std::to_string(i)), typename P::value_type(0), i});
+    ++i;
+  }
+  return s;
+}
+
+template <class Policy, class P>
+diagram<typename P::value_type, P::dim> solve_checked(const Policy& policy, const P& p,
+                                                      const std::vector<source<typename P::value_type>>& s,
+                                                      const solve_options& opt) {
+  if (opt.max_distance != opt.max_distance)
+    throw std::invalid_argument("geovoronoi: solve_options::max_distance is NaN");
+  auto d = backend_solve(policy, p, s, opt);
+  d.seeds.reserve(s.size());
+  for (const auto& x : s) d.seeds.push_back(x.voxel);
+  if (opt.with_parent) compute_parents(p, d, s);
+  return d;
+}
+}  // namespace detail
+
+/**
+ * @brief Geodesic Voronoi diagram of @p seeds: every voxel's distance to its nearest seed and that
+ *        seed's index, ties going to the lowest index.
+ *
+ * @param policy backend, e.g. geovoronoi::seq.
+ * @param p      the problem (make_problem()).
+ * @param seeds  a range of voxel coordinates (coord<Dim>); label i is the i-th seed.
+ * @param opt    parent image, radius bound.
+ * @return the diagram; bitwise identical for every backend.
+ * @throws std::invalid_argument if the list is empty, or a seed lies outside the grid, on a masked
+ *         voxel, or on the same voxel as another seed (the message names the seed).
+ *
+ * @code
+ * auto p = geovoronoi::make_problem(g, stiffness, geovoronoi::min_stiffness{}, geovoronoi::connectivity<26>{});
+ * auto d = geovoronoi::voronoi(geovoronoi::seq, p, std::vector<geovoronoi::coord<3>>{{0, 0, 0}, {9, 9, 9}});
+ * float far = d.distance({5, 5, 5});  int owner = d.label({5, 5, 5});
+ * @endcode
+ */
+template <class Policy, class P, class Seeds>
+diagram<typename P::value_type, P::dim> voronoi(const Policy& policy, const P& p, const Seeds& seeds,
+                                                const solve_options& opt = {}) {
+  const auto s = detail::seeds_to_sources(p, seeds);
+  detail::validate_sources(p, s);
+  return detail::solve_checked(policy, p, s, opt);
+}
+
+/// @brief The same, building the problem from its parts:
+///        `voronoi(seq, grid, field, seeds, min_stiffness{}, connectivity<26>{})`.
+template <class Policy, int Dim, class Field, class Seeds, class Metric, int N>
+auto voronoi(const Policy& policy, const grid<Dim>& g, const Field& field, const Seeds& seeds, Metric metric,
+             connectivity<N> conn, const solve_options& opt = {}) {
+  return voronoi(policy, make_problem(g, field, metric, conn), seeds, opt);
+}
+
+/**
+ * @brief General multi-source solve: each source starts at its own initial distance and spreads its
+ *        own label (labels may repeat, voxels may not).
+ * @throws std::invalid_argument on an empty list, a bad voxel, a duplicate voxel, a negative label or
+ *         a negative or non-finite initial distance.
+ */
+template <class Policy, class P>
+diagram<typename P::value_type, P::dim> geodesic_solve(const Policy& policy, const P& p,
+                                                       const std::vector<source<typename P::value_type>>& sources,
+                                                       const solve_options& opt = {}) {
+  detail::validate_sources(p, sources, "source");
+  return detail::solve_checked(policy, p, sources, opt);
+}
+
+/**
+ * @brief Bounded solve: the voxels whose distance from the sources is < @p radius, as a sparse list
+ *        sorted by voxel index. Scratch memory grows with the voxels reached, not with the grid.
+ */
+template <class Policy, class P>
+sparse_solution<typename P::value_type> bounded_solve(const Policy& policy, const P& p,
+                                                      const std::vector<source<typename P::value_type>>& sources,
+                                                      typename P::value_type radius) {
+  detail::validate_sources(p, sources, "source");
+  if (radius != radius) throw std::invalid_argument("geovoronoi: bounded_solve radius is NaN");
+  return backend_bounded(policy, p, sources, radius);
+}
+
+/// @brief Single-source solve from voxel @p s, bounded by @p radius (default: unbounded), sparse.
+template <class Policy, class P>
+sparse_solution<typename P::value_type> single_source(
+    const Policy& policy, const P& p, const coord<P::dim>& s,
+    typename P::value_type radius = std::numeric_limits<typename P::value_type>::infinity()) {
+  using T = typename P::value_type;
+  const index_t v = detail::checked_voxel(p, s, "source");
+  return bounded_solve(policy, p, std::vector<source<T>>{{v, T(0), 0}}, radius);
+}
+
+/**
+ * @brief New cells of many query voxels, each inserted alone into @p d (which is not modified).
+ *
+ * For query q: the voxels v with d_q(v) < d.distance(v), d_q the geodesic distance from q under the
+ * same problem, each with d_q(v) and its owner in @p d. See query_cells. Scratch memory per query is
+ * proportional to its cell.
+ * @throws std::invalid_argument if @p d was computed on another grid, or a query lies outside the grid
+ *         or on a masked voxel.
+ */
+template <class Policy, class P>
+query_cells<typename P::value_type> insert_queries(const Policy& policy, const P& p,
+                                                   const diagram<typename P::value_type, P::dim>& d,
+                                                   const std::vector<index_t>& queries) {
+  detail::check_diagram(p, d);
+  for (std::size_t i = 0; i < queries.size(); ++i) detail::checked_voxel(p, queries[i], "query " + std::to_string(i));
+  return backend_insert_queries(policy, p, d, queries);
+}
+
+/// @brief The same with voxel coordinates.
+template <class Policy, class P>
+query_cells<typename P::value_type> insert_queries(const Policy& policy, const P& p,
+                                                   const diagram<typename P::value_type, P::dim>& d,
+                                                   const std::vector<coord<P::dim>>& queries) {
+  std::vector<index_t> q;
+  q.reserve(queries.size());
+  for (std::size_t i = 0; i < queries.size(); ++i)
+    q.push_back(detail::checked_voxel(p, queries[i], "query " + std::to_string(i)));
+  return insert_queries(policy, p, d, q);
+}
+
+/// @brief New cell of one query voxel @p q (see insert_queries).
+template <class Policy, class P>
+query_cell<typename P::value_type> insert_query(const Policy& policy, const P& p,
+                                                const diagram<typename P::value_type, P::dim>& d,
+                                                const coord<P::dim>& q) {
+  auto cells = insert_queries(policy, p, d, std::vector<coord<P::dim>>{q});
+  query_cell<typename P::value_type> c;
+  c.query = cells.query[0];
+  c.voxel = std::move(cells.voxel);
+  c.distance = std::move(cells.distance);
+  c.owner = std::move(cells.owner);
+  return c;
+}
+
+/// @brief Voxel coordinates of world points, each rounded to the nearest voxel centre (unchecked:
+///        the solvers reject those outside the grid).
+template <int Dim>
+std::vector<coord<Dim>> seeds_from_world(const grid<Dim>& g, const std::vector<point<Dim>>& points) {
+  std::vector<coord<Dim>> out;
+  out.reserve(points.size());
+  for (const auto& x : points) out.push_back(g.nearest_voxel(x));
+  return out;
+}
+
+}  // namespace geovoronoi
