@@ -9,6 +9,7 @@
 #include <geovoronoi/grid.hpp>
 #include <geovoronoi/image.hpp>
 #include <geovoronoi/metric.hpp>
+#include <geovoronoi/phantom.hpp>
 #include <geovoronoi/problem.hpp>
 #include <geovoronoi/result.hpp>
 #include <geovoronoi/voronoi.hpp>
