@@ -64,12 +64,13 @@ struct sparse_keys {
 }
 
 /**
- * Runs Dijkstra from the keys already in the heap until it is empty.
+ * Runs Dijkstra from the keys already in the heap until it is empty. Heap is a monotone priority
+ * queue of (key, voxel) items (radix_heap; the benchmarks also plug in binary heaps to compare).
  * accept(u, nd) filters relaxations (radius bounds, insert-query pruning): a rejected candidate is
  * neither stored nor queued. Returns the number of voxels settled.
  */
-template <class P, class State, class Accept>
-std::size_t run(const P& p, State& st, radix_heap<typename P::value_type>& heap, Accept&& accept) {
+template <class P, class State, class Heap, class Accept>
+std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept) {
   using T = typename P::value_type;
   using kt = key_traits<T>;
   const stencil_walker<P> walk(p);
