@@ -12,6 +12,8 @@
 #include <geovoronoi/metric.hpp>
 
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace geovoronoi::detail::seq_engine {
@@ -42,6 +44,10 @@ struct dense_keys {
   typename kt::key_type get(index_t v) const noexcept { return n[v].get_key(); }
   void set(index_t v, typename kt::key_type key) noexcept { n[v].set_key(key); }
   T field(index_t v) const noexcept { return n[v].field; }
+  template <class Stencil>
+  void prefetch(index_t v, const Stencil& s) const noexcept {
+    for (int k = 0; k < Stencil::size; ++k) __builtin_prefetch(n + v + s.delta[k], 1, 1);
+  }
 };
 
 /// Keys in a hash map holding only the voxels visited; field values read from the problem.
@@ -51,12 +57,19 @@ struct sparse_keys {
   flat_map<typename kt::key_type> map;
   const T* f = nullptr;
   T field(index_t v) const noexcept { return f[v]; }
+  template <class Stencil>
+  void prefetch(index_t, const Stencil&) const noexcept {}
   typename kt::key_type get(index_t v) noexcept {
     const auto* x = map.find(v);
     return x ? *x : kt::unreached;
   }
   void set(index_t v, typename kt::key_type key) { map.get_or_insert(v, key) = key; }
 };
+
+template <class H, class = void>
+struct has_peek : std::false_type {};
+template <class H>
+struct has_peek<H, std::void_t<decltype(std::declval<const H&>().peek_ready())>> : std::true_type {};
 
 [[noreturn]] inline void bad_weight(double w) {
   throw metric_error("geovoronoi: the metric returned the edge weight " + std::to_string(w) +
@@ -80,6 +93,8 @@ std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept) {
     if (it.key != st.get(it.voxel)) continue;  // stale entry: a smaller key was queued later
     ++settled;
     const index_t v = it.voxel;
+    if constexpr (has_peek<Heap>::value)
+      if (const auto* nx = heap.peek_ready()) st.prefetch(nx->voxel, p.edges);
     const T dv = kt::distance(it.key);
     const label_t l = kt::label(it.key);
     const T fv = st.field(v);
