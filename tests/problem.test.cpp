@@ -77,6 +77,12 @@ TEST_CASE("make_problem: size mismatches are rejected") {
   gv::image<float, 2> other(gv::grid<2>({1, 9}), 1.0f);
   GV_CHECK_INVALID(gv::make_problem(g, other.view()), "field", "extents");
   GV_CHECK_INVALID(gv::make_problem(gv::grid<2>(), std::vector<float>{}), "empty");
+  // a spacing valid in double whose edge lengths underflow or overflow the distance type
+  GV_CHECK_INVALID(gv::make_problem(gv::grid<2>({2, 2}, {1e-50, 1e-50}), std::vector<float>(4, 1.0f)), "spacing", "length");
+  GV_CHECK_INVALID(gv::make_problem(gv::grid<2>({2, 2}, {1e39, 1.0}), std::vector<float>(4, 1.0f)), "spacing", "length");
+  GV_CHECK_INVALID(gv::make_problem(gv::grid<3>({2, 2, 2}, {1e300, 1e300, 1.0}), std::vector<double>(8, 1.0)), "spacing");
+  CHECK_NOTHROW(gv::make_problem(gv::grid<2>({2, 2}, {1e-50, 1e-50}), std::vector<double>(4, 1.0)));
+  CHECK_NOTHROW(gv::make_problem(gv::grid<2>({2, 2}, {1e30, 1e30}), std::vector<float>(4, 1.0f)));
   // an image over a grid with other spacing but the same extents is accepted: only the layout matters
   CHECK_NOTHROW(gv::make_problem(g, gv::image<float, 2>(gv::grid<2>({3, 3}, {2.0, 2.0}), 1.0f)));
 }
