@@ -33,6 +33,16 @@ struct solve_options {
   double max_distance = std::numeric_limits<double>::infinity();
 };
 
+namespace detail {
+/// solve_options::max_distance converted to T without overflowing: beyond T's range it is +inf.
+template <class T>
+T radius_in(double r) noexcept {
+  if (!(r < double(std::numeric_limits<T>::max()))) return r > 0 ? std::numeric_limits<T>::infinity() : T(r);
+  if (r < -double(std::numeric_limits<T>::max())) return -std::numeric_limits<T>::infinity();
+  return static_cast<T>(r);
+}
+}  // namespace detail
+
 /**
  * @brief A geodesic Voronoi diagram: per-voxel distance to the nearest seed and that seed's label.
  *

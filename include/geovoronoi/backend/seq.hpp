@@ -34,7 +34,7 @@ diagram<T_of<P>, P::dim> backend_solve(par_t, const P& p, const std::vector<sour
   using T = T_of<P>;
   using kt = detail::key_traits<T>;
   const index_t n = p.geometry.size();
-  const T radius = static_cast<T>(opt.max_distance);
+  const T radius = detail::radius_in<T>(opt.max_distance);
   detail::big_array<impl::node<T>> work(static_cast<std::size_t>(n));
   for (index_t v = 0; v < n; ++v) {
     work[v].set_key(kt::unreached);
