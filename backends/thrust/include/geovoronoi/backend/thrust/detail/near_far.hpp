@@ -254,16 +254,30 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
       // raise theta: the smallest queued distance plus a window holding about `target` voxels
       const far_distance<T> fd{keys, flags};
       const index_t* fl = raw(far);
-      const T lo = ::thrust::transform_reduce(exec, fl, fl + far_size, fd, inf, ::thrust::minimum<T>());
+      T lo = inf, hi = T(-1);
+      if (go_parallel<Exec>(far_size)) {
+        lo = ::thrust::transform_reduce(exec, fl, fl + far_size, fd, inf, ::thrust::minimum<T>());
+        hi = ::thrust::transform_reduce(exec, fl, fl + far_size, far_distance_or_low<T>{fd}, T(-1),
+                                        ::thrust::maximum<T>());
+      } else {
+        for (index_t i = 0; i < far_size; ++i) {
+          const T x = fd(fl[i]);
+          if (x < lo) lo = x;
+          if (x != inf && x > hi) hi = x;
+        }
+      }
       if (!(lo < inf)) {  // every entry was stale
         far_size = 0;
         continue;
       }
-      const T hi = ::thrust::transform_reduce(exec, fl, fl + far_size, far_distance_or_low<T>{fd}, T(-1),
-                                              ::thrust::maximum<T>());
+      const bool par = go_parallel<Exec>(far_size);
       auto within = [&](T th) {
-        return ::thrust::transform_reduce(exec, fl, fl + far_size, far_within<T>{fd, th}, index_t(0),
-                                          ::thrust::plus<index_t>());
+        if (par)
+          return ::thrust::transform_reduce(exec, fl, fl + far_size, far_within<T>{fd, th}, index_t(0),
+                                            ::thrust::plus<index_t>());
+        index_t c = 0;
+        for (index_t i = 0; i < far_size; ++i) c += far_within<T>{fd, th}(fl[i]);
+        return c;
       };
       index_t c = within(lo + delta);
       for (int guard = 0; c < target && lo + delta < hi && guard < 64; ++guard) {
@@ -282,12 +296,13 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
       grow<index_t>(cn, chunks + 1);
       grow<index_t>(cf, chunks + 1);
       parallel_for(exec, chunks + 1,
-                   split_fn<T>{keys, flags, fl, far_size, slots, chunks, raw(region), raw(cn), raw(cf), theta});
+                   split_fn<T>{keys, flags, fl, far_size, slots, chunks, raw(region), raw(cn), raw(cf), theta},
+                   far_size);
       const index_t tn = exclusive_scan(exec, raw(cn), chunks + 1);
       const index_t tf = exclusive_scan(exec, raw(cf), chunks + 1);
       grow<index_t>(near, tn);
       grow<index_t>(far2, tf);
-      parallel_for(exec, chunks, gather_fn{raw(region), slots, raw(cn), raw(cf), raw(near), raw(far2)});
+      parallel_for(exec, chunks, gather_fn{raw(region), slots, raw(cn), raw(cf), raw(near), raw(far2)}, tn + tf);
       using std::swap;
       swap(far, far2);
       far_size = tf;
@@ -305,13 +320,15 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
       grow<index_t>(cf, chunks + 1);
       parallel_for(exec, chunks + 1,
                    expand_fn<P, Accept>{p, ext, keys, flags, raw(near) + s, cnt, chunk, chunks, raw(region), raw(cn),
-                                        raw(cf), theta, accept, raw(error)});
+                                        raw(cf), theta, accept, raw(error)},
+                   cnt * N);
       const index_t tn = exclusive_scan(exec, raw(cn), chunks + 1);
       const index_t tf = exclusive_scan(exec, raw(cf), chunks + 1);
       grow<index_t>(next, next_size + tn);
       grow<index_t>(far, far_size + tf);
       parallel_for(exec, chunks,
-                   gather_fn{raw(region), chunk * N, raw(cn), raw(cf), raw(next) + next_size, raw(far) + far_size});
+                   gather_fn{raw(region), chunk * N, raw(cn), raw(cf), raw(next) + next_size, raw(far) + far_size},
+                   tn + tf);
       next_size += tn;
       far_size += tf;
       counts.expansions += static_cast<std::uint64_t>(cnt);

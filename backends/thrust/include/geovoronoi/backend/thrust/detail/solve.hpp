@@ -7,6 +7,7 @@
 
 #include <thrust/fill.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <limits>
 #include <vector>
@@ -67,8 +68,13 @@ void seed(const Exec& exec, dense_state<Exec, T>& st, index_t n, const std::vect
   using kt = geovoronoi::detail::key_traits<T>;
   st.keys.resize(static_cast<std::size_t>(n));
   st.flags.resize(static_cast<std::size_t>(n));
-  ::thrust::fill(exec, raw(st.keys), raw(st.keys) + n, key_cell<T>::make(kt::unreached));
-  ::thrust::fill(exec, raw(st.flags), raw(st.flags) + n, idle);
+  if (go_parallel<Exec>(n)) {
+    ::thrust::fill(exec, raw(st.keys), raw(st.keys) + n, key_cell<T>::make(kt::unreached));
+    ::thrust::fill(exec, raw(st.flags), raw(st.flags) + n, idle);
+  } else {
+    std::fill(raw(st.keys), raw(st.keys) + n, key_cell<T>::make(kt::unreached));
+    std::fill(raw(st.flags), raw(st.flags) + n, idle);
+  }
   std::vector<index_t> vox;
   std::vector<key_cell<T>> key;
   for (const auto& s : sources)
@@ -82,7 +88,7 @@ void seed(const Exec& exec, dense_state<Exec, T>& st, index_t n, const std::vect
   vec<Exec, key_cell<T>> kv(key.begin(), key.end());
   vec<Exec, index_t> vv(vox.begin(), vox.end());
   st.far = vv;
-  parallel_for(exec, st.far_size, seed_fn<T>{raw(vv), raw(kv), raw(st.keys), raw(st.flags)});
+  parallel_for(exec, st.far_size, seed_fn<T>{raw(vv), raw(kv), raw(st.keys), raw(st.flags)}, st.far_size);
 }
 
 template <class Exec, class P>
@@ -103,12 +109,12 @@ diagram<typename P::value_type, P::dim> solve(const Exec& exec, const P& p,
 #ifdef __CUDACC__
     vec<Exec, T> dist(static_cast<std::size_t>(n));
     vec<Exec, label_t> lab(static_cast<std::size_t>(n));
-    parallel_for(exec, n, unpack_fn<T>{raw(st.keys), raw(dist), raw(lab), inf});
+    parallel_for(exec, n, unpack_fn<T>{raw(st.keys), raw(dist), raw(lab), inf}, n);
     ::thrust::copy(dist.begin(), dist.end(), d.distance.data());
     ::thrust::copy(lab.begin(), lab.end(), d.label.data());
 #endif
   } else {
-    parallel_for(exec, n, unpack_fn<T>{raw(st.keys), d.distance.data(), d.label.data(), inf});
+    parallel_for(exec, n, unpack_fn<T>{raw(st.keys), d.distance.data(), d.label.data(), inf}, n);
   }
   return d;
 }
@@ -158,7 +164,7 @@ sparse_solution<T> extract(const Exec& exec, const key_cell<T>* keys, index_t n)
   const index_t chunk = is_cuda_policy_v<Exec> ? 256 : 4096;
   const index_t chunks = (n + chunk - 1) / chunk;
   vec<Exec, index_t> count(static_cast<std::size_t>(chunks + 1));
-  parallel_for(exec, chunks + 1, reached_fn<T>{keys, n, chunk, raw(count), nullptr});
+  parallel_for(exec, chunks + 1, reached_fn<T>{keys, n, chunk, raw(count), nullptr}, n);
   const index_t total = exclusive_scan(exec, raw(count), chunks + 1);
   sparse_solution<T> r;
   r.voxel.resize(static_cast<std::size_t>(total));
@@ -168,8 +174,8 @@ sparse_solution<T> extract(const Exec& exec, const key_cell<T>* keys, index_t n)
   vec<Exec, index_t> vox(static_cast<std::size_t>(total));
   vec<Exec, T> dist(static_cast<std::size_t>(total));
   vec<Exec, label_t> lab(static_cast<std::size_t>(total));
-  parallel_for(exec, chunks, reached_fn<T>{keys, n, chunk, raw(count), raw(vox)});
-  parallel_for(exec, total, sparse_fn<T>{keys, raw(vox), raw(dist), raw(lab)});
+  parallel_for(exec, chunks, reached_fn<T>{keys, n, chunk, raw(count), raw(vox)}, n);
+  parallel_for(exec, total, sparse_fn<T>{keys, raw(vox), raw(dist), raw(lab)}, total);
   if constexpr (is_cuda_policy_v<Exec>) {
 #ifdef __CUDACC__
     ::thrust::copy(vox.begin(), vox.end(), r.voxel.begin());

@@ -88,11 +88,24 @@ index_t exclusive_scan(const Exec& exec, index_t* counts, index_t n) {
   }
 }
 
-/// Call f(i) for i in [0, n) on the policy's system.
+/// Work (in voxel visits) below which a host system runs a step on the calling thread: waking a
+/// thread team costs more than a small step, and much more on a loaded machine.
+inline constexpr index_t host_grain = 4096;
+
+/// Whether a step of @p work voxel visits should run in parallel on @p Exec's system.
+template <class Exec>
+bool go_parallel(index_t work) noexcept {
+  return is_cuda_policy_v<Exec> || work >= host_grain;
+}
+
+/// Call f(i) for i in [0, n) on the policy's system (on the calling thread when @p work is small).
 template <class Exec, class F>
-void parallel_for(const Exec& exec, index_t n, const F& f) {
+void parallel_for(const Exec& exec, index_t n, const F& f, index_t work) {
   if (n <= 0) return;
-  ::thrust::for_each(exec, ::thrust::counting_iterator<index_t>(0), ::thrust::counting_iterator<index_t>(n), f);
+  if (go_parallel<Exec>(work))
+    ::thrust::for_each(exec, ::thrust::counting_iterator<index_t>(0), ::thrust::counting_iterator<index_t>(n), f);
+  else
+    for (index_t i = 0; i < n; ++i) f(i);
 }
 
 }  // namespace geovoronoi::thrust::detail
