@@ -98,14 +98,44 @@ bool go_parallel(index_t work) noexcept {
   return is_cuda_policy_v<Exec> || work >= host_grain;
 }
 
+/// Host systems: a few worker slots that take blocks of indices from a shared counter. Thrust's
+/// OpenMP for_each splits its range statically, so one descheduled thread (a loaded machine) would
+/// hold up the whole step; with self-scheduling the other threads take its share.
+template <class F>
+struct self_scheduled {
+  F f;
+  index_t n;
+  index_t block;
+  index_t* next;
+  void operator()(index_t) const {
+    for (;;) {
+      const index_t b = __atomic_fetch_add(next, index_t(1), __ATOMIC_RELAXED);
+      const index_t begin = b * block;
+      if (begin >= n) return;
+      const index_t end = begin + block < n ? begin + block : n;
+      for (index_t i = begin; i < end; ++i) f(i);
+    }
+  }
+};
+
 /// Call f(i) for i in [0, n) on the policy's system (on the calling thread when @p work is small).
 template <class Exec, class F>
 void parallel_for(const Exec& exec, index_t n, const F& f, index_t work) {
   if (n <= 0) return;
-  if (go_parallel<Exec>(work))
+  if constexpr (is_cuda_policy_v<Exec>) {
+    (void)work;
     ::thrust::for_each(exec, ::thrust::counting_iterator<index_t>(0), ::thrust::counting_iterator<index_t>(n), f);
-  else
-    for (index_t i = 0; i < n; ++i) f(i);
+  } else {
+    if (!go_parallel<Exec>(work)) {
+      for (index_t i = 0; i < n; ++i) f(i);
+      return;
+    }
+    const index_t slots = n < 64 ? n : 64;
+    const index_t block = (n + 511) / 512;
+    index_t next = 0;
+    ::thrust::for_each(exec, ::thrust::counting_iterator<index_t>(0), ::thrust::counting_iterator<index_t>(slots),
+                       self_scheduled<F>{f, n, block, &next});
+  }
 }
 
 }  // namespace geovoronoi::thrust::detail
