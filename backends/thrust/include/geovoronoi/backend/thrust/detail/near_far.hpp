@@ -20,6 +20,7 @@
 #include <thrust/transform_reduce.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -62,15 +63,25 @@ GEOVORONOI_HOST_DEVICE inline void for_each_neighbour(const P& p, const extents3
   }
 }
 
-/// Expands near-list entries [j*chunk, (j+1)*chunk); queued neighbours go to the chunk's region,
-/// near ones from the front, far ones from the back. Entry j == chunks writes the zero count that
-/// turns the exclusive scan into offsets with a total.
-template <class P, class Accept>
+/// Reserve @p k slots of a shared list; returns the first.
+GEOVORONOI_HOST_DEVICE inline index_t reserve(index_t* count, index_t k) noexcept {
+#ifdef __CUDA_ARCH__
+  return index_t(atomicAdd(reinterpret_cast<unsigned long long*>(count), static_cast<unsigned long long>(k)));
+#else
+  return __atomic_fetch_add(count, k, __ATOMIC_RELAXED);
+#endif
+}
+
+/// Expands near-list entries [j*Chunk, (j+1)*Chunk). Queued neighbours are staged locally (near ones
+/// from the front, far ones from the back), then appended to the next near list and the far pile
+/// with one reservation each.
+template <class P, class Accept, int Chunk>
 struct expand_fn {
   using T = typename P::value_type;
   using cell = key_cell<T>;
   using kt = geovoronoi::detail::key_traits<T>;
   static constexpr int N = P::neighbours;
+  static constexpr index_t top = index_t(Chunk) * N;
 
   P p;
   extents3 ext;
@@ -78,25 +89,17 @@ struct expand_fn {
   flag_t* flags;
   const index_t* list;
   index_t count;
-  index_t chunk;
-  index_t chunks;
-  index_t* region;
-  index_t* n_near;
-  index_t* n_far;
+  index_t* near_out;
+  index_t* far_out;
+  index_t* sizes;  // [0] near_out's, [1] far_out's
   T theta;
   Accept accept;
   int* error;
 
   GEOVORONOI_HOST_DEVICE void operator()(index_t j) const {
-    if (j == chunks) {
-      n_near[j] = 0;
-      n_far[j] = 0;
-      return;
-    }
-    const index_t begin = j * chunk;
-    const index_t end = begin + chunk < count ? begin + chunk : count;
-    const index_t top = chunk * N;
-    index_t* reg = region + j * top;
+    index_t stage[top];
+    const index_t begin = j * Chunk;
+    const index_t end = begin + Chunk < count ? begin + Chunk : count;
     index_t a = 0, b = 0;
     for (index_t i = begin; i < end; ++i) {
       const index_t u = list[i];
@@ -123,24 +126,30 @@ struct expand_fn {
             const flag_t f = flag_load(flags + v);
             if (f == queued_near) break;
             if (flag_cas(flags + v, f, queued_near)) {
-              reg[a++] = v;
+              stage[a++] = v;
               break;
             }
           }
         } else if (flag_load(flags + v) == idle && flag_cas(flags + v, idle, queued_far)) {
-          reg[top - 1 - b++] = v;
+          stage[top - 1 - b++] = v;
         }
       };
       for_each_neighbour(p, ext, u, relax);
     }
-    n_near[j] = a;
-    n_far[j] = b;
+    if (a) {
+      const index_t at = reserve(sizes, a);
+      for (index_t i = 0; i < a; ++i) near_out[at + i] = stage[i];
+    }
+    if (b) {
+      const index_t at = reserve(sizes + 1, b);
+      for (index_t i = 0; i < b; ++i) far_out[at + i] = stage[top - 1 - i];
+    }
   }
 };
 
-/// Splits far-pile entries [j*chunk, (j+1)*chunk) by theta; stale entries (no longer queued far)
+/// Splits far-pile entries [j*Chunk, (j+1)*Chunk) by theta; stale entries (no longer queued far)
 /// are dropped, duplicates resolve through the flag's compare-and-swap.
-template <class T>
+template <class T, int Chunk>
 struct split_fn {
   using cell = key_cell<T>;
   using kt = geovoronoi::detail::key_traits<T>;
@@ -148,50 +157,33 @@ struct split_fn {
   flag_t* flags;
   const index_t* list;
   index_t count;
-  index_t chunk;
-  index_t chunks;
-  index_t* region;
-  index_t* n_near;
-  index_t* n_far;
+  index_t* near_out;
+  index_t* far_out;
+  index_t* sizes;
   T theta;
 
   GEOVORONOI_HOST_DEVICE void operator()(index_t j) const {
-    if (j == chunks) {
-      n_near[j] = 0;
-      n_far[j] = 0;
-      return;
-    }
-    const index_t begin = j * chunk;
-    const index_t end = begin + chunk < count ? begin + chunk : count;
-    index_t* reg = region + j * chunk;
+    index_t stage[Chunk];
+    const index_t begin = j * Chunk;
+    const index_t end = begin + Chunk < count ? begin + Chunk : count;
     index_t a = 0, b = 0;
     for (index_t i = begin; i < end; ++i) {
       const index_t v = list[i];
       if (flag_load(flags + v) != queued_far) continue;
       if (kt::distance(cell::load(keys + v)) <= theta) {
-        if (flag_cas(flags + v, queued_far, queued_near)) reg[a++] = v;
+        if (flag_cas(flags + v, queued_far, queued_near)) stage[a++] = v;
       } else {
-        reg[chunk - 1 - b++] = v;
+        stage[Chunk - 1 - b++] = v;
       }
     }
-    n_near[j] = a;
-    n_far[j] = b;
-  }
-};
-
-/// Copies each chunk's queued voxels to their places in the next near list and the far pile.
-struct gather_fn {
-  const index_t* region;
-  index_t slots;
-  const index_t* off_near;
-  const index_t* off_far;
-  index_t* near_out;
-  index_t* far_out;
-  GEOVORONOI_HOST_DEVICE void operator()(index_t j) const {
-    const index_t* reg = region + j * slots;
-    const index_t a = off_near[j + 1] - off_near[j], b = off_far[j + 1] - off_far[j];
-    for (index_t i = 0; i < a; ++i) near_out[off_near[j] + i] = reg[i];
-    for (index_t i = 0; i < b; ++i) far_out[off_far[j] + i] = reg[slots - b + i];
+    if (a) {
+      const index_t at = reserve(sizes, a);
+      for (index_t i = 0; i < a; ++i) near_out[at + i] = stage[i];
+    }
+    if (b) {
+      const index_t at = reserve(sizes + 1, b);
+      for (index_t i = 0; i < b; ++i) far_out[at + i] = stage[Chunk - 1 - i];
+    }
   }
 };
 
@@ -200,8 +192,9 @@ template <class T>
 struct far_distance {
   const key_cell<T>* keys;
   const flag_t* flags;
+  T inf;
   GEOVORONOI_HOST_DEVICE T operator()(index_t v) const {
-    if (flag_load(flags + v) != queued_far) return std::numeric_limits<T>::infinity();
+    if (flag_load(flags + v) != queued_far) return inf;
     return geovoronoi::detail::key_traits<T>::distance(key_cell<T>::load(keys + v));
   }
 };
@@ -210,7 +203,7 @@ struct far_distance_or_low {
   far_distance<T> d;
   GEOVORONOI_HOST_DEVICE T operator()(index_t v) const {
     const T x = d(v);
-    return x == std::numeric_limits<T>::infinity() ? T(-1) : x;
+    return x == d.inf ? T(-1) : x;
   }
 };
 template <class T>
@@ -220,9 +213,73 @@ struct far_within {
   GEOVORONOI_HOST_DEVICE index_t operator()(index_t v) const { return d(v) <= theta ? 1 : 0; }
 };
 
-template <class U, class V>
+/// Candidate windows: delta_0 = 0, delta_k = base * 2^(k-1).
+inline constexpr int windows = 64;
+
+template <class T>
+T window(T base, int k) noexcept {
+  return k == 0 ? T(0) : std::ldexp(base, k - 1);
+}
+
+/// Host systems: per-block smallest and largest queued distance, and per-block counts of the
+/// smallest window holding each entry (one pass each over the far pile).
+template <class T>
+struct far_range_fn {
+  far_distance<T> d;
+  const index_t* list;
+  index_t count;
+  index_t block;
+  T* lo;
+  T* hi;
+  void operator()(index_t j) const {
+    T l = d.inf, h = T(-1);
+    const index_t end = std::min(count, (j + 1) * block);
+    for (index_t i = j * block; i < end; ++i) {
+      const T x = d(list[i]);
+      if (x < l) l = x;
+      if (x != d.inf && x > h) h = x;
+    }
+    lo[j] = l;
+    hi[j] = h;
+  }
+};
+template <class T>
+struct far_histogram_fn {
+  far_distance<T> d;
+  const index_t* list;
+  index_t count;
+  index_t block;
+  T lo;
+  T base;
+  index_t* hist;  // windows per block
+  void operator()(index_t j) const {
+    index_t* h = hist + j * windows;
+    for (int k = 0; k < windows; ++k) h[k] = 0;
+    const index_t end = std::min(count, (j + 1) * block);
+    for (index_t i = j * block; i < end; ++i) {
+      const T x = d(list[i]);
+      if (x == d.inf) continue;
+      int k = 0;
+      if (x > lo) {
+        const T r = (x - lo) / base;
+        k = r < T(1) ? 1 : std::min(windows - 1, std::ilogb(r) + 1);
+        while (k > 1 && x <= lo + window(base, k - 1)) --k;
+        while (k < windows - 1 && !(x <= lo + window(base, k))) ++k;
+      }
+      ++h[k];
+    }
+  }
+};
+
+template <class V>
 void grow(V& v, index_t need) {
   if (static_cast<index_t>(v.size()) < need) v.resize(static_cast<std::size_t>(std::max(need, 2 * index_t(v.size()))));
+}
+
+template <class Exec>
+void set_sizes(vec<Exec, index_t>& sizes, index_t a, index_t b) {
+  sizes[0] = a;  // a host store, or one small copy to the device
+  sizes[1] = b;
 }
 
 /**
@@ -236,77 +293,83 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
   using T = typename P::value_type;
   constexpr int N = P::neighbours;
   constexpr bool device = is_cuda_policy_v<Exec>;
-  const index_t chunk = device ? 1 : 32;
+  constexpr int chunk = device ? 1 : 32;
+  constexpr int split_chunk = device ? 1 : 64;
   const index_t cap = device ? (index_t(1) << 18) : (index_t(1) << 14);
   const extents3 ext = extents_of(p);
+  const index_t n = p.geometry.size();
   target = std::max<index_t>(target, 1);
 
-  vec<Exec, index_t> near, next, far2, region, cn, cf;
+  vec<Exec, index_t> near, next, far2, sizes(2);
   vec<Exec, int> error(1, 0);
+  std::vector<T> lo_part, hi_part;
+  std::vector<index_t> hist;
   engine_counts counts;
   index_t near_size = 0;
-  T delta = T(0);
   T theta = T(0);
   const T inf = std::numeric_limits<T>::infinity();
 
   while (near_size > 0 || far_size > 0) {
     if (near_size == 0) {
-      // raise theta: the smallest queued distance plus a window holding about `target` voxels
-      const far_distance<T> fd{keys, flags};
+      // raise theta: the smallest queued distance plus the narrowest window holding `target` voxels
+      const far_distance<T> fd{keys, flags, inf};
       const index_t* fl = raw(far);
       T lo = inf, hi = T(-1);
-      if (go_parallel<Exec>(far_size)) {
+      const index_t blocks = std::max<index_t>(1, std::min<index_t>(256, far_size / 1024));
+      const index_t block = (far_size + blocks - 1) / blocks;
+      if constexpr (device) {
         lo = ::thrust::transform_reduce(exec, fl, fl + far_size, fd, inf, ::thrust::minimum<T>());
         hi = ::thrust::transform_reduce(exec, fl, fl + far_size, far_distance_or_low<T>{fd}, T(-1),
                                         ::thrust::maximum<T>());
       } else {
-        for (index_t i = 0; i < far_size; ++i) {
-          const T x = fd(fl[i]);
-          if (x < lo) lo = x;
-          if (x != inf && x > hi) hi = x;
+        lo_part.assign(static_cast<std::size_t>(blocks), inf);
+        hi_part.assign(static_cast<std::size_t>(blocks), T(-1));
+        parallel_for(exec, blocks, far_range_fn<T>{fd, fl, far_size, block, lo_part.data(), hi_part.data()}, far_size);
+        for (index_t j = 0; j < blocks; ++j) {
+          lo = std::min(lo, lo_part[j]);
+          hi = std::max(hi, hi_part[j]);
         }
       }
       if (!(lo < inf)) {  // every entry was stale
         far_size = 0;
         continue;
       }
-      const bool par = go_parallel<Exec>(far_size);
-      auto within = [&](T th) {
-        if (par)
-          return ::thrust::transform_reduce(exec, fl, fl + far_size, far_within<T>{fd, th}, index_t(0),
-                                            ::thrust::plus<index_t>());
+      const T spread = hi - lo;
+      const T base = spread > T(0) ? std::max(std::ldexp(spread, -(windows - 8)), std::numeric_limits<T>::min()) : T(1);
+      int pick = windows - 1;
+      if constexpr (device) {
+        for (int k = 0; k < windows; ++k) {
+          const index_t c = ::thrust::transform_reduce(exec, fl, fl + far_size,
+                                                       far_within<T>{fd, lo + window(base, k)}, index_t(0),
+                                                       ::thrust::plus<index_t>());
+          if (c >= target || !(lo + window(base, k) < hi)) {
+            pick = k;
+            break;
+          }
+        }
+      } else {
+        hist.assign(static_cast<std::size_t>(blocks * windows), 0);
+        parallel_for(exec, blocks, far_histogram_fn<T>{fd, fl, far_size, block, lo, base, hist.data()}, far_size);
         index_t c = 0;
-        for (index_t i = 0; i < far_size; ++i) c += far_within<T>{fd, th}(fl[i]);
-        return c;
-      };
-      index_t c = within(lo + delta);
-      for (int guard = 0; c < target && lo + delta < hi && guard < 64; ++guard) {
-        delta = delta > T(0) ? delta * T(2) : (hi - lo) / T(4096);
-        if (!(delta > T(0))) delta = hi - lo;
-        c = within(lo + delta);
+        for (int k = 0; k < windows; ++k) {
+          for (index_t j = 0; j < blocks; ++j) c += hist[j * windows + k];
+          if (c >= target || !(lo + window(base, k) < hi)) {
+            pick = k;
+            break;
+          }
+        }
       }
-      if (c > 4 * target && delta > T(0)) {
-        const index_t c2 = within(lo + delta / T(2));
-        if (c2 >= target) delta /= T(2);
-      }
-      theta = lo + delta;
-      const index_t chunks = (far_size + chunk * 64 - 1) / (chunk * 64);
-      const index_t slots = chunk * 64;
-      grow<index_t>(region, chunks * slots);
-      grow<index_t>(cn, chunks + 1);
-      grow<index_t>(cf, chunks + 1);
-      parallel_for(exec, chunks + 1,
-                   split_fn<T>{keys, flags, fl, far_size, slots, chunks, raw(region), raw(cn), raw(cf), theta},
+      theta = lo + window(base, pick);
+      grow(near, std::min(n, far_size));
+      grow(far2, far_size);
+      set_sizes<Exec>(sizes, 0, 0);
+      parallel_for(exec, (far_size + split_chunk - 1) / split_chunk,
+                   split_fn<T, split_chunk>{keys, flags, fl, far_size, raw(near), raw(far2), raw(sizes), theta},
                    far_size);
-      const index_t tn = exclusive_scan(exec, raw(cn), chunks + 1);
-      const index_t tf = exclusive_scan(exec, raw(cf), chunks + 1);
-      grow<index_t>(near, tn);
-      grow<index_t>(far2, tf);
-      parallel_for(exec, chunks, gather_fn{raw(region), slots, raw(cn), raw(cf), raw(near), raw(far2)}, tn + tf);
+      near_size = read<Exec>(raw(sizes));
+      far_size = read<Exec>(raw(sizes) + 1);
       using std::swap;
       swap(far, far2);
-      far_size = tf;
-      near_size = tn;
       ++counts.splits;
       continue;
     }
@@ -314,23 +377,15 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
     index_t next_size = 0;
     for (index_t s = 0; s < near_size; s += cap) {
       const index_t cnt = std::min(cap, near_size - s);
-      const index_t chunks = (cnt + chunk - 1) / chunk;
-      grow<index_t>(region, chunks * chunk * N);
-      grow<index_t>(cn, chunks + 1);
-      grow<index_t>(cf, chunks + 1);
-      parallel_for(exec, chunks + 1,
-                   expand_fn<P, Accept>{p, ext, keys, flags, raw(near) + s, cnt, chunk, chunks, raw(region), raw(cn),
-                                        raw(cf), theta, accept, raw(error)},
+      grow(next, std::min(n, next_size + cnt * N));
+      grow(far, far_size + cnt * N);
+      set_sizes<Exec>(sizes, next_size, far_size);
+      parallel_for(exec, (cnt + chunk - 1) / chunk,
+                   expand_fn<P, Accept, chunk>{p, ext, keys, flags, raw(near) + s, cnt, raw(next), raw(far), raw(sizes),
+                                               theta, accept, raw(error)},
                    cnt * N);
-      const index_t tn = exclusive_scan(exec, raw(cn), chunks + 1);
-      const index_t tf = exclusive_scan(exec, raw(cf), chunks + 1);
-      grow<index_t>(next, next_size + tn);
-      grow<index_t>(far, far_size + tf);
-      parallel_for(exec, chunks,
-                   gather_fn{raw(region), chunk * N, raw(cn), raw(cf), raw(next) + next_size, raw(far) + far_size},
-                   tn + tf);
-      next_size += tn;
-      far_size += tf;
+      next_size = read<Exec>(raw(sizes));
+      far_size = read<Exec>(raw(sizes) + 1);
       counts.expansions += static_cast<std::uint64_t>(cnt);
       ++counts.rounds;
     }
