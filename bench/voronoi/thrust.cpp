@@ -1,5 +1,6 @@
 /// @file bench/voronoi/thrust.cpp
-/// @brief The Thrust backend over the voronoi case matrix, on the OpenMP system (`thrust_omp`) and,
+/// @brief The Thrust backend over the voronoi case matrix, on the OpenMP system (`thrust_omp`), the TBB system
+///        (`thrust_tbb`) and,
 ///        when compiled by nvcc, on the CUDA system (`thrust_cuda`, timed with CUDA events).
 ///
 /// Linked with bench/voronoi/seq.cpp into one executable so that ratios come from one run:
@@ -13,6 +14,9 @@
 
 #if defined(GEOVORONOI_BENCH_THRUST_OMP)
 #include <thrust/system/omp/execution_policy.h>
+#endif
+#if defined(GEOVORONOI_BENCH_THRUST_TBB)
+#include <thrust/system/tbb/execution_policy.h>
 #endif
 #if defined(__CUDACC__)
 #include <cuda_runtime.h>
@@ -41,6 +45,14 @@ const std::vector<int> conns{6, 26};
 GEOVORONOI_BENCH_REGISTER(register_thrust_omp_cases) {
   static geovoronoi::thrust::stats st;
   gb::register_voronoi_cases("thrust_omp", geovoronoi::thrust::par_on(::thrust::omp::par).with_stats(&st), sizes,
+                             seed_counts, conns, gb::field_names(), false, stats_hooks(&st));
+}
+#endif
+
+#if defined(GEOVORONOI_BENCH_THRUST_TBB)
+GEOVORONOI_BENCH_REGISTER(register_thrust_tbb_cases) {
+  static geovoronoi::thrust::stats st;
+  gb::register_voronoi_cases("thrust_tbb", geovoronoi::thrust::par_on(::thrust::tbb::par).with_stats(&st), sizes,
                              seed_counts, conns, gb::field_names(), false, stats_hooks(&st));
 }
 #endif

@@ -10,7 +10,13 @@ if(TARGET geovoronoi::thrust_tbb)
 endif()
 if(TARGET geovoronoi::thrust_cuda)
   # Compiled by nvcc for GEOVORONOI_CUDA_ARCHITECTURES; reports skipped (77) without a device.
-  geovoronoi_add_test(test_backend_thrust_cuda backend/thrust_cuda.cu LIBS geovoronoi::thrust_cuda)
+  # Its own main() (exit code 77 when no case found a device), so not geovoronoi_add_test's.
+  add_executable(test_backend_thrust_cuda backend/thrust_cuda.cu)
+  target_include_directories(test_backend_thrust_cuda PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
+  target_link_libraries(test_backend_thrust_cuda PRIVATE doctest::doctest geovoronoi::thrust_cuda geovoronoi_dev_options
+                        CUDA::cudart)
+  add_test(NAME test_backend_thrust_cuda COMMAND test_backend_thrust_cuda)
+  set_tests_properties(test_backend_thrust_cuda PROPERTIES SKIP_RETURN_CODE 77)
   set_target_properties(test_backend_thrust_cuda PROPERTIES CUDA_ARCHITECTURES "${GEOVORONOI_CUDA_ARCHITECTURES}")
 endif()
 if(TARGET geovoronoi::thrust)

@@ -15,6 +15,7 @@
 
 #ifdef __CUDACC__
 #include <thrust/copy.h>
+#include <thrust/device_ptr.h>
 #include <thrust/system/cuda/vector.h>
 #endif
 
