@@ -12,4 +12,5 @@
 #include <geovoronoi/phantom.hpp>
 #include <geovoronoi/problem.hpp>
 #include <geovoronoi/result.hpp>
+#include <geovoronoi/shape_functions.hpp>
 #include <geovoronoi/voronoi.hpp>

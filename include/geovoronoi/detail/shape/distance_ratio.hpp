@@ -1,0 +1,145 @@
+#pragma once
+// Distance Ratio shape functions (SOFA's method 0), node by node, from two bounded solves per node:
+// the node's own distance over its support and the distance to its cell's frontier.
+
+#include <geovoronoi/detail/shape/common.hpp>
+#include <geovoronoi/voronoi.hpp>
+
+#include <algorithm>
+#include <limits>
+#include <vector>
+
+namespace geovoronoi::detail::shape {
+
+/**
+ * Raw Distance Ratio weight of node i at a voxel with distance d_p to i and d_b to i's frontier.
+ * Inside i's cell: 1/2 (1 + d_b / (d_p + d_b)), 1 at the node. Outside: 1/2 (1 - d_b / (d_p - d_b))
+ * clamped at 0, and 0 when d_p <= d_b (SOFA returns 1 for d_p < d_b: a voxel outside the cell is never
+ * weighted more than at the frontier here).
+ */
+inline double distance_ratio_weight(double dp, double db, bool in_cell) noexcept {
+  if (dp == 0) return 1;
+  if (in_cell) return 0.5 * (1 + db / (dp + db));
+  if (dp <= db) return 0;
+  const double w = 0.5 * (1 - db / (dp - db));
+  return w > 0 ? w : 0;
+}
+
+/// Inserts (node, w) into a voxel's K raw slots kept in slot order; a tie goes after the entries
+/// already there (they have lower node indices), a full list drops its smallest weight.
+inline void insert_slot(label_t* node, double* raw, int k, label_t i, double w) {
+  int at = 0;
+  while (at < k && node[at] != no_label && raw[at] >= w) ++at;
+  if (at == k) return;
+  for (int s = k - 1; s > at; --s) node[s] = node[s - 1], raw[s] = raw[s - 1];
+  node[at] = i;
+  raw[at] = w;
+}
+
+template <class Policy, class P, class D, class W, class Options>
+void distance_ratio(const Policy& policy, const P& p, const D& d, const Options& opt, W& w) {
+  using T = typename P::value_type;
+  const index_t n = p.geometry.size();
+  const int k = w.k;
+  const label_t nodes = label_t(w.nodes);
+  const auto faces = faces_of(p);
+  const T* dist = d.distance.data();
+  const label_t* lab = d.label.data();
+
+  // the cells as voxel lists (counting sort by label; each list sorted by voxel)
+  std::vector<std::size_t> start(std::size_t(nodes) + 1, 0);
+  for (index_t v = 0; v < n; ++v)
+    if (lab[v] != no_label) ++start[std::size_t(lab[v]) + 1];
+  for (label_t i = 0; i < nodes; ++i) start[std::size_t(i) + 1] += start[std::size_t(i)];
+  std::vector<index_t> members(start.back());
+  {
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (index_t v = 0; v < n; ++v)
+      if (lab[v] != no_label) members[fill[std::size_t(lab[v])]++] = v;
+  }
+
+  std::vector<double> raw(std::size_t(n) * std::size_t(k), 0.0);
+  std::vector<source<T>> frontier;
+  for (label_t i = 0; i < nodes; ++i) {
+    const index_t* cell = members.data() + start[std::size_t(i)];
+    const std::size_t cell_size = start[std::size_t(i) + 1] - start[std::size_t(i)];
+    // 1. bound: the largest distance over the cell and its face neighbours in other cells
+    T dmax = T(0);
+    for (std::size_t j = 0; j < cell_size; ++j) {
+      const index_t x = cell[j];
+      dmax = std::max(dmax, dist[x]);
+      const auto c = p.geometry.coords(x);
+      for (const auto& f : faces) {
+        if (!face_in_grid(p, c, f)) continue;
+        const index_t y = x + f.delta;
+        if (lab[y] != no_label && lab[y] != i) dmax = std::max(dmax, dist[y]);
+      }
+    }
+    const index_t node_voxel = d.seeds[std::size_t(i)];
+    if (!(dmax > T(0))) {  // an isolated one-voxel cell: only the node itself
+      insert_slot(w.node.data() + std::size_t(node_voxel) * k, raw.data() + std::size_t(node_voxel) * k, k, i, 1.0);
+      report(opt.progress, double(i + 1) / double(nodes));
+      continue;
+    }
+    // 2. the node's own distance over its support d_i < 2 dmax
+    const T radius = T(2) * dmax;
+    const auto di = bounded_solve(policy, p, std::vector<source<T>>{{node_voxel, T(0), 0}}, radius);
+    auto di_at = [&](index_t v) -> T {
+      const auto it = std::lower_bound(di.voxel.begin(), di.voxel.end(), v);
+      return (it != di.voxel.end() && *it == v) ? di.distance[std::size_t(it - di.voxel.begin())]
+                                                : std::numeric_limits<T>::infinity();
+    };
+    // 3. distance to the frontier: sources on both sides of every face between cell i and a cell j,
+    //    at their distance to the point where d_i = d_j along the path i -> x -> y -> j
+    frontier.clear();
+    for (std::size_t j = 0; j < cell_size; ++j) {
+      const index_t x = cell[j];
+      const auto c = p.geometry.coords(x);
+      for (const auto& f : faces) {
+        if (!face_in_grid(p, c, f)) continue;
+        const index_t y = x + f.delta;
+        if (lab[y] == no_label || lab[y] == i) continue;
+        const T diy = di_at(y);
+        if (!(diy < std::numeric_limits<T>::infinity())) continue;
+        const T dby = T(0.5) * (diy - dist[y]);
+        const T mid = T(0.5) * (dist[y] + diy);
+        const T dbx = std::max(T(0), mid - dist[x]);
+        if (dby < dmax) frontier.push_back({y, dby, 0});
+        if (dbx < dmax) frontier.push_back({x, dbx, 0});
+      }
+    }
+    std::sort(frontier.begin(), frontier.end(), [](const source<T>& a, const source<T>& b) {
+      return a.voxel < b.voxel || (a.voxel == b.voxel && a.distance < b.distance);
+    });
+    frontier.erase(std::unique(frontier.begin(), frontier.end(),
+                               [](const source<T>& a, const source<T>& b) { return a.voxel == b.voxel; }),
+                   frontier.end());
+    sparse_solution<T> db;
+    if (!frontier.empty()) db = bounded_solve(policy, p, frontier, dmax);  // d_B is capped at dmax
+    // 4. raw weights over the support, merged with d_B (both sorted by voxel)
+    std::size_t b = 0;
+    for (std::size_t j = 0; j < di.size(); ++j) {
+      const index_t x = di.voxel[j];
+      while (b < db.size() && db.voxel[b] < x) ++b;
+      const T dbx = (b < db.size() && db.voxel[b] == x) ? db.distance[b] : dmax;
+      const double wx = distance_ratio_weight(double(di.distance[j]), double(dbx), lab[x] == i);
+      if (wx > 0) insert_slot(w.node.data() + std::size_t(x) * k, raw.data() + std::size_t(x) * k, k, i, wx);
+    }
+    report(opt.progress, double(i + 1) / double(nodes));
+  }
+  // 5. normalise the kept weights of every reached voxel
+  std::vector<candidate> cand;
+  for (index_t v = 0; v < n; ++v) {
+    const std::size_t at = std::size_t(v) * std::size_t(k);
+    if (lab[v] == no_label) {
+      for (int s = 0; s < k; ++s) w.node[at + s] = no_label;
+      continue;
+    }
+    cand.clear();
+    for (int s = 0; s < k && w.node[at + s] != no_label; ++s) cand.push_back({w.node[at + s], raw[at + s]});
+    for (int s = 0; s < k; ++s) w.node[at + s] = no_label;
+    store(cand, k, w.node.data() + at, w.weight.data() + at);
+  }
+}
+
+}  // namespace geovoronoi::detail::shape

@@ -1,0 +1,124 @@
+#pragma once
+/// @file shape_functions.hpp
+/// @brief Voronoi shape functions (Distance Ratio, Sibson, Laplace) computed on a geodesic Voronoi
+///        diagram, written once for every backend: they call only the solver entry points of
+///        voronoi.hpp (bounded_solve, insert_queries), so the backend policy chooses where the
+///        shortest-path work runs.
+///
+/// Nodes are the diagram's seeds. Every voxel the diagram reaches gets at most K (node, weight)
+/// pairs, weights >= 0 summing to 1; masked or unreachable voxels get none. See
+/// docs/shape-functions.md for the definitions and how they differ from SOFA's.
+
+#include <geovoronoi/config.hpp>
+#include <geovoronoi/error.hpp>
+#include <geovoronoi/grid.hpp>
+#include <geovoronoi/result.hpp>
+#include <geovoronoi/voronoi.hpp>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <cstddef>
+#include <functional>
+#include <vector>
+
+namespace geovoronoi {
+
+/// Which shape functions to compute.
+enum class shape_method {
+  /// SOFA's default (method 0, Faure et al. 2011): from the distance to the node and to its cell's
+  /// frontier; support bounded by twice the cell's largest distance.
+  distance_ratio,
+  /// Discrete natural-neighbour coordinates: volume the query's new cell steals from each node.
+  sibson,
+  /// Non-Sibsonian coordinates: facet area between the new cell and each node's cell over the
+  /// geodesic length of a path from the query through that facet to the node.
+  laplace
+};
+
+/// Options of shape_functions().
+struct shape_options {
+  /// The method.
+  shape_method method = shape_method::sibson;
+  /// K (SOFA's nbRef): the most nodes one voxel keeps; the smallest weights are dropped, then the
+  /// kept ones are renormalised. Must be >= 1.
+  int max_nodes_per_voxel = 4;
+  /// Queries per backend call (Sibson, Laplace). Must be >= 1. Memory grows with batch_size times the
+  /// typical size of a query's new cell.
+  std::size_t batch_size = 4096;
+  /// Optional progress callback, called between backend calls with the fraction done in [0, 1];
+  /// returning false cancels the computation, which then throws geovoronoi::cancelled.
+  std::function<bool(double)> progress;
+};
+
+/**
+ * @brief Shape-function weights on a grid, K fixed-stride slots per voxel.
+ *
+ * Slot s of voxel v lives at index v * k + s of node and weight. Filled slots come first, sorted by
+ * decreasing weight (ties: lower node first); empty slots have node -1 and weight 0. A voxel outside
+ * the domain, or that no node reaches, has only empty slots.
+ *
+ * @tparam T   weight type (the problem's distance type).
+ * @tparam Dim 2 or 3.
+ */
+template <class T, int Dim>
+struct shape_weights {
+  /// The grid the weights live on.
+  grid<Dim> geometry;
+  /// Slots per voxel (K).
+  int k = 0;
+  /// Number of nodes (columns of to_sparse_matrix()).
+  std::size_t nodes = 0;
+  /// geometry.size() * k node indices (0-based), -1 for an empty slot.
+  std::vector<label_t> node;
+  /// geometry.size() * k weights, 0 for an empty slot.
+  std::vector<T> weight;
+
+  /// @brief The weights as a voxels x nodes row-major sparse matrix (one row per voxel, empty rows
+  ///        outside the domain); rows sum to 1 inside the domain.
+  Eigen::SparseMatrix<float, Eigen::RowMajor> to_sparse_matrix() const;
+};
+
+/**
+ * @brief Shape functions of the diagram's seeds (the nodes) at every voxel.
+ *
+ * @param policy  backend, e.g. geovoronoi::seq or geovoronoi::thrust::par.
+ * @param problem the problem @p d was computed on.
+ * @param d       a diagram of the nodes (geovoronoi::voronoi()); node i is d.seeds[i], label i.
+ * @param opt     method, K, batch size, progress callback.
+ * @return the weights; bitwise identical for every backend (they return identical diagrams and
+ *         query cells, and the accumulation is written once).
+ * @throws std::invalid_argument if K < 1, batch_size is 0, d has no seeds, d was computed on another
+ *         grid, or d holds a label that is not a node index.
+ * @throws geovoronoi::cancelled when the progress callback returns false.
+ *
+ * @code
+ * auto p = geovoronoi::make_problem(g, stiffness, geovoronoi::min_stiffness{}, geovoronoi::connectivity<26>{});
+ * auto d = geovoronoi::voronoi(geovoronoi::seq, p, nodes);
+ * geovoronoi::shape_options opt;
+ * opt.method = geovoronoi::shape_method::laplace;
+ * auto w = geovoronoi::shape_functions(geovoronoi::seq, p, d, opt);
+ * Eigen::MatrixXf u = geovoronoi::interpolate(w, nodal_displacements);  // voxels x 3
+ * @endcode
+ */
+template <class Policy, class P>
+shape_weights<typename P::value_type, P::dim> shape_functions(const Policy& policy, const P& problem,
+                                                              const diagram<typename P::value_type, P::dim>& d,
+                                                              const shape_options& opt = {});
+
+/**
+ * @brief Values at every voxel interpolated from values at the nodes: row v = sum over the slots of
+ *        voxel v of weight * nodal_values.row(node).
+ *
+ * @param w            shape functions.
+ * @param nodal_values w.nodes x C matrix (e.g. an Eigen::MatrixX3f of nodal displacements).
+ * @return geometry.size() x C matrix; rows of voxels without weights are 0.
+ * @throws std::invalid_argument if nodal_values does not have w.nodes rows.
+ */
+template <class T, int Dim, class Derived>
+Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> interpolate(const shape_weights<T, Dim>& w,
+                                                             const Eigen::MatrixBase<Derived>& nodal_values);
+
+}  // namespace geovoronoi
+
+#include <geovoronoi/detail/shape/shape_functions.hpp>
