@@ -298,6 +298,15 @@ int cmd_shape(const std::vector<std::string>& args) {
   return 0;
 }
 
+/// A dozen nodes spread over the steak's middle slice (z = nz/2), so the mid-slice pictures show them all.
+std::vector<gv::coord<3>> mid_slice_seeds(const gv::image<float, 3>& field, int count) {
+  auto plane = field;
+  const auto& g = field.geometry();
+  for (index_t v = 0; v < g.size(); ++v)
+    if (g.coords(v)[2] != g.extent(2) / 2) plane[v] = 0.0f;
+  return gv::phantom::spread_seeds(plane, count);
+}
+
 int cmd_demo(const std::vector<std::string>& args) {
   gvcli::arguments a(args, {"--out", "--backend"}, {});
   const std::string dir = a.get("--out", "demo-out");
@@ -307,47 +316,72 @@ int cmd_demo(const std::vector<std::string>& args) {
   // The T-bone steak phantom: meat 2e4, fat 5e3, bone 1.5e10 (the paper's contrast), 1 mm voxels.
   const gv::grid<3> g({128, 96, 32}, {1.0, 1.0, 1.0});
   const auto field = gv::phantom::steak(g);
-  const auto seeds = gv::phantom::spread_seeds(field, 12);
+  const auto seeds = mid_slice_seeds(field, 12);
+  // Sibson inserts every voxel as a query (cost ~ voxels^2 / nodes), so it runs on the same steak
+  // at 3/8 of the resolution (same physical size).
+  const gv::grid<3> gh({48, 36, 12}, {8.0 / 3.0, 8.0 / 3.0, 8.0 / 3.0});
+  const auto field_h = gv::phantom::steak(gh);
+  const auto seeds_h = mid_slice_seeds(field_h, 12);
   gvcli::output_dir out(dir);
   gio::write_metaimage(out.file("stiffness.mhd"), field);
   {
     std::ofstream s(out.file("seeds.csv"));
-    s << "# i,j,k voxel indices of the demo's nodes (x, y, z)\n";
+    s << "# i,j,k voxel indices of the demo's nodes (x, y, z) in stiffness.mhd\n";
     for (const auto& c : seeds) s << c[0] << "," << c[1] << "," << c[2] << "\n";
     if (!s) throw gio::io_error(out.file("seeds.csv"), "write error");
   }
-  std::printf("demo: steak phantom %lldx%lldx%lld, %zu nodes, backend %s\n", (long long)g.extent(0),
-              (long long)g.extent(1), (long long)g.extent(2), seeds.size(), backend.c_str());
+  std::printf("demo: steak phantom %lldx%lldx%lld (Sibson: %lldx%lldx%lld), %zu nodes, backend %s\n",
+              (long long)g.extent(0), (long long)g.extent(1), (long long)g.extent(2), (long long)gh.extent(0),
+              (long long)gh.extent(1), (long long)gh.extent(2), seeds.size(), backend.c_str());
+  std::fflush(stdout);
   with_backend(backend, [&](auto policy) {
     const auto p = gv::make_problem(g, field, gv::min_stiffness{}, gv::connectivity<26>{});
     bar.update("voronoi");
     auto t0 = bar.seconds();
     const auto d = gv::voronoi(policy, p, seeds);
-    std::printf("  voronoi         %6.2f s\n", bar.seconds() - t0);
+    std::printf("  voronoi          %7.2f s\n", bar.seconds() - t0);
     write_voronoi(out, d, field);
     // the same seeds under the uniform metric, to show what the stiffness changes
     const auto pu = gv::make_problem(g, field, gv::uniform{}, gv::connectivity<26>{});
     const auto du = gv::voronoi(policy, pu, seeds);
-    gio::write_png(out.file("labels_uniform.png"), gio::label_montage(du.label, du.seeds, &field));
-    for (auto method : {gv::shape_method::distance_ratio, gv::shape_method::sibson}) {
+    const auto uni = gio::label_montage(du.label, du.seeds, &field);
+    gio::write_png(out.file("labels_uniform.png"), uni);
+    // side by side: the XY mid-slice under the uniform metric (left) and under min_stiffness (right)
+    const auto stiff = gio::label_montage(d.label, d.seeds, &field);
+    const index_t panel_w = gio::first_panel_width(g, uni);
+    gio::write_png(out.file("labels_compare.png"),
+                   gio::hstack(gio::crop(uni, 0, 0, panel_w, uni.height), gio::crop(stiff, 0, 0, panel_w, stiff.height)));
+    auto shape = [&](const auto& prob, const auto& diag, gv::shape_method method, const auto& f) {
       bar.update(method_name(method), 0.0);
       t0 = bar.seconds();
       gv::shape_options opt;
       opt.method = method;
       opt.max_nodes_per_voxel = 4;
-      opt.progress = [&](double f) { bar.set_fraction(f); return true; };
-      const auto w = gv::shape_functions(policy, p, d, opt);
-      std::printf("  %-15s %6.2f s\n", method_name(method), bar.seconds() - t0);
-      write_shape(out.subdir(method_name(method)), w, d, field, 0);
-    }
+      opt.progress = [&](double x) { bar.set_fraction(x); return true; };
+      const auto w = gv::shape_functions(policy, prob, diag, opt);
+      std::printf("  %-16s %7.2f s (%lld voxels)\n", method_name(method), bar.seconds() - t0,
+                  (long long)prob.geometry.size());
+      std::fflush(stdout);
+      const std::string sub = out.subdir(method_name(method));
+      write_shape(sub, w, diag, f, 0);
+      if (method == gv::shape_method::sibson) {
+        gio::write_metaimage(sub + "/stiffness.mhd", f);
+        gio::write_metaimage(sub + "/label.mhd", diag.label);
+        gio::write_png(sub + "/labels.png", gio::label_montage(diag.label, diag.seeds, &f));
+      }
+    };
+    shape(p, d, gv::shape_method::distance_ratio, field);
+    const auto ph = gv::make_problem(gh, field_h, gv::min_stiffness{}, gv::connectivity<26>{});
+    const auto dh = gv::voronoi(policy, ph, seeds_h);
+    shape(ph, dh, gv::shape_method::sibson, field_h);
   });
   bar.update("writing");
   out.commit();
   bar.finish();
   summary("demo", g, seeds.size(), backend, bar.seconds(), dir);
-  std::printf("pictures: %s/labels.png (cells, min_stiffness), %s/labels_uniform.png (same seeds, uniform metric),\n"
-              "          %s/distance.png, %s/sibson/weight_node0.png, %s/distance-ratio/weight_node0.png\n",
-              dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str());
+  std::printf("pictures: %s/labels_compare.png (uniform | min_stiffness), %s/labels.png, %s/labels_uniform.png,\n"
+              "          %s/distance.png, %s/distance-ratio/weight_node0.png, %s/sibson/weight_node0.png\n",
+              dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str());
   return 0;
 }
 

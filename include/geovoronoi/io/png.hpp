@@ -221,6 +221,36 @@ void draw_seeds(rgb_image& pic, const grid<Dim>& g, const std::vector<panel>& ps
 
 }  // namespace detail
 
+/// The part [x0, x0+w) x [y0, y0+h) of a picture (clipped to it).
+inline rgb_image crop(const rgb_image& pic, index_t x0, index_t y0, index_t w, index_t h) {
+  x0 = std::clamp<index_t>(x0, 0, pic.width), y0 = std::clamp<index_t>(y0, 0, pic.height);
+  w = std::clamp<index_t>(w, 0, pic.width - x0), h = std::clamp<index_t>(h, 0, pic.height - y0);
+  rgb_image out(w, h);
+  for (index_t y = 0; y < h; ++y)
+    for (index_t x = 0; x < w; ++x) out.set(x, y, pic.get(x0 + x, y0 + y));
+  return out;
+}
+
+/// Two pictures side by side (top-aligned, dark background where heights differ).
+inline rgb_image hstack(const rgb_image& a, const rgb_image& b) {
+  rgb_image out(a.width + b.width, std::max(a.height, b.height), rgb{40, 40, 40});
+  for (index_t y = 0; y < a.height; ++y)
+    for (index_t x = 0; x < a.width; ++x) out.set(x, y, a.get(x, y));
+  for (index_t y = 0; y < b.height; ++y)
+    for (index_t x = 0; x < b.width; ++x) out.set(a.width + x, y, b.get(x, y));
+  return out;
+}
+
+/// Width in pixels of a montage's first (XY) panel including the margins, for crop().
+template <int Dim>
+index_t first_panel_width(const grid<Dim>& g, const rgb_image& montage) {
+  auto ps = detail::panels_of(g);
+  int scale = 0;
+  const auto canvas = detail::montage_canvas(g, ps, scale);
+  // the automatic scale is a function of the grid alone, so it matches the montage's
+  return canvas.width == montage.width ? ps[0].x0 + ps[0].w * scale + 6 : montage.width;
+}
+
 /// A distinct colour for label l (golden-angle hues, alternating brightness); dark grey for -1.
 inline rgb label_colour(label_t l) {
   if (l < 0) return {25, 25, 25};
