@@ -390,10 +390,7 @@ int cmd_demo(const std::vector<std::string>& args) {
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   try {
-    if (args.empty()) {
-      std::fputs(usage_text, stderr);
-      return 2;
-    }
+    if (args.empty()) throw usage_error("missing command (voronoi, shape-functions or demo; --help for usage)");
     const std::string cmd = args.front();
     args.erase(args.begin());
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
