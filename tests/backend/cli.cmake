@@ -17,7 +17,7 @@ if(TARGET test_io_png)
   endif()
 endif()
 
-if(TARGET geovoronoi_tool)
+if(GEOVORONOI_BUILD_TOOLS AND EXISTS ${PROJECT_SOURCE_DIR}/examples/CMakeLists.txt)
   add_test(NAME cli_end_to_end
     COMMAND ${CMAKE_COMMAND} -DGEOVORONOI=$<TARGET_FILE:geovoronoi_tool> -DWORK=${CMAKE_CURRENT_BINARY_DIR}/cli-work
             -P ${CMAKE_CURRENT_LIST_DIR}/../cli/run_cli.cmake)
