@@ -1,21 +1,12 @@
-// Shared by the libFuzzer targets: writes the input to a private temporary file (the readers take
-// file names) and runs a reader on it; io_error is the expected outcome for junk, anything else
-// (a crash, a sanitizer report, another exception escaping, a timeout) is a finding.
+// Shared by the libFuzzer targets: the parsers take the bytes in memory (the file readers only add
+// reading the file); io_error is the expected outcome for junk, anything else (a crash, a sanitizer
+// report, another exception escaping, a timeout, a huge allocation) is a finding.
 #pragma once
 #include <geovoronoi/io/common.hpp>
 
 #include <cstdint>
-#include <cstdio>
-#include <string>
-#include <unistd.h>
+#include <vector>
 
-inline std::string fuzz_path(const char* ext) {
-  return "/tmp/geovoronoi-fuzz-" + std::to_string(::getpid()) + ext;
-}
-
-inline void fuzz_write(const std::string& path, const std::uint8_t* data, std::size_t size) {
-  std::FILE* f = std::fopen(path.c_str(), "wb");
-  if (!f) return;
-  if (size) std::fwrite(data, 1, size, f);
-  std::fclose(f);
+inline std::vector<unsigned char> fuzz_bytes(const std::uint8_t* data, std::size_t size) {
+  return std::vector<unsigned char>(data, data + size);
 }

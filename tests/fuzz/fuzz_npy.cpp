@@ -1,13 +1,11 @@
-// libFuzzer target: the NumPy .npy reader.
+// libFuzzer target: the NumPy .npy parser and its mapping to a volume.
 #include "fuzz_common.hpp"
 #include <geovoronoi/io/npy.hpp>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  static const std::string path = fuzz_path(".npy");
-  fuzz_write(path, data, size);
   try {
-    auto v = geovoronoi::io::read_npy_volume<float>(path);
-    (void)v;
+    auto a = geovoronoi::io::parse_npy<float>("input.npy", fuzz_bytes(data, size));
+    (void)geovoronoi::io::npy_to_volume<float>("input.npy", std::move(a));
   } catch (const geovoronoi::io::io_error&) {
   }
   return 0;

@@ -348,14 +348,16 @@ inline metaimage_header read_metaimage_header(const std::string& path) {
 }
 
 /**
- * @brief Reads a MetaImage volume, converting its elements to T.
- * @param path   a .mhd (header, data in ElementDataFile) or .mha (ElementDataFile = LOCAL) file.
+ * @brief Parses a MetaImage file already in memory (read_metaimage() reads it first), converting its
+ *        elements to T. A separate ElementDataFile is read relative to @p path.
+ * @param path   name of a .mhd (header, data in ElementDataFile) or .mha (ElementDataFile = LOCAL) file.
+ * @param header_bytes the file's bytes.
  * @param layout how several channels are stored (ignored for one channel; a 4th dimension is planar).
  * @throws io_error naming the file and the problem for anything malformed, truncated or inconsistent.
  */
 template <class T>
-volume<T> read_metaimage(const std::string& path, channel_layout layout = channel_layout::interleaved) {
-  const auto header_bytes = detail::read_file(path);
+volume<T> parse_metaimage(const std::string& path, const std::vector<unsigned char>& header_bytes,
+                          channel_layout layout = channel_layout::interleaved) {
   const metaimage_header h = detail::parse_metaimage_header(path, header_bytes);
   std::string data_path = path;
   std::vector<unsigned char> other;
@@ -447,6 +449,12 @@ volume<T> read_metaimage(const std::string& path, channel_layout layout = channe
   if (h.channels > 1 && layout == channel_layout::interleaved)
     v.data = detail::reorder_channels(v.data, std::size_t(voxels), std::size_t(h.channels), true);
   return v;
+}
+
+/// Reads a MetaImage file (see parse_metaimage()).
+template <class T>
+volume<T> read_metaimage(const std::string& path, channel_layout layout = channel_layout::interleaved) {
+  return parse_metaimage<T>(path, detail::read_file(path), layout);
 }
 
 /// Reads one channel of a MetaImage file as an image (Dim 2 needs a single slice).

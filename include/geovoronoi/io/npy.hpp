@@ -76,13 +76,12 @@ inline std::string npy_field(const std::string& dict, const std::string& key) {
 }  // namespace detail
 
 /**
- * @brief Reads a .npy file.
+ * @brief Parses the bytes of a .npy file (named @p path in messages).
  * @throws io_error naming the file and the problem for a bad magic, header, type, shape, or a file
  *         shorter or longer than the shape implies.
  */
 template <class T>
-npy_array<T> read_npy(const std::string& path) {
-  const auto bytes = detail::read_file(path);
+npy_array<T> parse_npy(const std::string& path, const std::vector<unsigned char>& bytes) {
   if (bytes.size() < 10 || bytes[0] != 0x93 || std::memcmp(bytes.data() + 1, "NUMPY", 5) != 0)
     throw io_error(path, "not a NumPy .npy file (bad magic)");
   const int major = bytes[6];
@@ -174,6 +173,12 @@ npy_array<T> read_npy(const std::string& path) {
   return a;
 }
 
+/// Reads a .npy file (see parse_npy()).
+template <class T>
+npy_array<T> read_npy(const std::string& path) {
+  return parse_npy<T>(path, detail::read_file(path));
+}
+
 /// Writes `count` values as a C-ordered .npy array of the given numpy shape, element type `type`.
 template <class T>
 void write_npy(const std::string& path, const T* data, const std::vector<index_t>& shape,
@@ -224,8 +229,7 @@ void write_npy(const std::string& path, const image<T, Dim>& img) {
 /// Reads a .npy array as a volume: 1D (nx), 2D (ny, nx) or 3D (nz, ny, nx) in C order, the reverse
 /// shapes in Fortran order; spacing 1, origin 0 (NumPy files carry no geometry).
 template <class T>
-volume<T> read_npy_volume(const std::string& path) {
-  auto a = read_npy<T>(path);
+volume<T> npy_to_volume(const std::string& path, npy_array<T> a) {
   if (a.shape.empty() || a.shape.size() > 3)
     throw io_error(path, "a volume needs a 1D, 2D or 3D array, this one has " + std::to_string(a.shape.size()) + " dimensions");
   volume<T> v;
@@ -238,6 +242,12 @@ volume<T> read_npy_volume(const std::string& path) {
   v.stored = a.stored;
   v.data = std::move(a.data);
   return v;
+}
+
+/// Reads a .npy file as a volume (see npy_to_volume()).
+template <class T>
+volume<T> read_npy_volume(const std::string& path) {
+  return npy_to_volume<T>(path, read_npy<T>(path));
 }
 
 /// Reads a .npy array as an image (spacing 1, origin 0).

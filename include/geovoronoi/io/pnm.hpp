@@ -27,12 +27,11 @@ struct pnm_options {
 };
 
 /**
- * @brief Reads a PGM or PPM picture as a single-channel volume of width x height x extrude voxels.
+ * @brief Parses the bytes of a PGM or PPM picture (named @p path in messages) as a single-channel volume of width x height x extrude voxels.
  * @throws io_error naming the file and the problem (bad magic, header, maxval, truncated pixels).
  */
 template <class T>
-volume<T> read_pnm(const std::string& path, const pnm_options& opt = {}) {
-  const auto bytes = detail::read_file(path);
+volume<T> parse_pnm(const std::string& path, const std::vector<unsigned char>& bytes, const pnm_options& opt = {}) {
   if (opt.extrude < 1 || opt.extrude > 1000000)
     throw io_error(path, "extrusion to " + std::to_string(opt.extrude) + " slices is out of range (1 to 10^6)");
   if (opt.channel < -1 || opt.channel > 2) throw io_error(path, "PPM channel must be -1, 0, 1 or 2");
@@ -113,6 +112,12 @@ volume<T> read_pnm(const std::string& path, const pnm_options& opt = {}) {
   for (std::size_t z = 0; z < std::size_t(opt.extrude); ++z)
     for (std::size_t p = 0; p < pixels; ++p) v.data[z * pixels + p] = static_cast<T>(value[p]);
   return v;
+}
+
+/// Reads a PGM or PPM file (see parse_pnm()).
+template <class T>
+volume<T> read_pnm(const std::string& path, const pnm_options& opt = {}) {
+  return parse_pnm<T>(path, detail::read_file(path), opt);
 }
 
 /// Writes a single-channel 8-bit picture as binary PGM (P5), rows from y = 0; values are clamped to 0..255.
