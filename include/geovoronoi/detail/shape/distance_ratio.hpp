@@ -135,6 +135,12 @@ void distance_ratio(const Policy& policy, const P& p, const D& d, const Options&
       for (int s = 0; s < k; ++s) w.node[at + s] = no_label;
       continue;
     }
+    if (dist[v] == T(0)) {  // a node: Kronecker delta (another node's outside weight is ~0 there anyway)
+      for (int s = 0; s < k; ++s) w.node[at + s] = no_label;
+      w.node[at] = lab[v];
+      w.weight[at] = T(1);
+      continue;
+    }
     cand.clear();
     for (int s = 0; s < k && w.node[at + s] != no_label; ++s) cand.push_back({w.node[at + s], raw[at + s]});
     for (int s = 0; s < k; ++s) w.node[at + s] = no_label;

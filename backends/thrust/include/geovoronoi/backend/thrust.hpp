@@ -1,0 +1,184 @@
+#pragma once
+/// @file backend/thrust.hpp
+/// @brief The Thrust backend: parallel near-far relaxation on any Thrust system (CUDA, OpenMP, TBB,
+///        CPP), bitwise identical to the sequential backend.
+///
+/// Select it by passing geovoronoi::thrust::par (the consumer's THRUST_DEVICE_SYSTEM) or
+/// geovoronoi::thrust::par_on(policy) (an explicit Thrust execution policy such as thrust::omp::par)
+/// as the first argument of any solver entry point in geovoronoi/voronoi.hpp. Link the CMake target
+/// geovoronoi::thrust and choose the system yourself, or one of geovoronoi::thrust_omp, thrust_tbb,
+/// thrust_cpp, thrust_cuda, which set THRUST_DEVICE_SYSTEM for you. With the CUDA system the
+/// translation unit must be compiled by nvcc.
+///
+/// @code
+/// #include <geovoronoi.hpp>
+/// #include <geovoronoi/backend/thrust.hpp>
+/// geovoronoi::thrust::stats st;
+/// auto d = geovoronoi::voronoi(geovoronoi::thrust::par.with_stats(&st), problem, seeds);
+/// double work = st.expansions_per_voxel();   // 1.0 would be Dijkstra's
+/// @endcode
+///
+/// The algorithm, its memory use and its limits are described in docs/backend-thrust.md.
+
+#include <geovoronoi/backend/thrust/detail/insert_queries.hpp>
+#include <geovoronoi/backend/thrust/detail/near_far.hpp>
+#include <geovoronoi/backend/thrust/detail/solve.hpp>
+#include <geovoronoi/result.hpp>
+
+#include <thrust/execution_policy.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace geovoronoi {
+namespace thrust {
+
+/// Work counters of the last call made with a policy that points at this struct.
+struct stats {
+  std::uint64_t expansions = 0;  ///< voxel expansions (a voxel expanded k times counts k)
+  std::uint64_t reached = 0;     ///< voxels with a finite distance (cells' voxels for insert-query)
+  std::uint64_t rounds = 0;      ///< parallel expansion rounds
+  std::uint64_t splits = 0;      ///< threshold raises
+  /// Expansions per reached voxel: 1 means every voxel was expanded once, with its final key.
+  double expansions_per_voxel() const noexcept { return reached ? double(expansions) / double(reached) : 0.0; }
+};
+
+/**
+ * @brief Policy of the Thrust backend on the consumer's THRUST_DEVICE_SYSTEM (thrust::device).
+ *
+ * Trivially copyable; `with_*` return modified copies.
+ */
+struct par_t {
+  /// Voxels a threshold raise aims to release at once (0: a default per system, 16384 on host
+  /// systems, 262144 on CUDA). Larger gives more parallelism per round and more re-expansions.
+  std::size_t batch = 0;
+  /// Where to write the work counters of each call (none when null).
+  stats* report = nullptr;
+
+  constexpr par_t with_batch(std::size_t b) const noexcept { return par_t{b, report}; }
+  constexpr par_t with_stats(stats* s) const noexcept { return par_t{batch, s}; }
+};
+
+/**
+ * @brief Policy of the Thrust backend on an explicit Thrust execution policy.
+ * @tparam ExecutionPolicy e.g. the type of thrust::omp::par, thrust::tbb::par, thrust::cpp::par,
+ *         thrust::cuda::par.on(stream).
+ */
+template <class ExecutionPolicy>
+struct par_on_t : par_t {
+  ExecutionPolicy exec;
+  par_on_t() = default;
+  par_on_t(const par_t& base, const ExecutionPolicy& e) : par_t(base), exec(e) {}
+  par_on_t with_batch(std::size_t b) const { return par_on_t(par_t::with_batch(b), exec); }
+  par_on_t with_stats(stats* s) const { return par_on_t(par_t::with_stats(s), exec); }
+};
+
+/// The backend on the consumer's THRUST_DEVICE_SYSTEM: `geovoronoi::voronoi(geovoronoi::thrust::par, ...)`.
+inline constexpr par_t par{};
+
+/**
+ * @brief The backend on an explicit Thrust execution policy.
+ * @code
+ * auto d = geovoronoi::voronoi(geovoronoi::thrust::par_on(thrust::omp::par), problem, seeds);
+ * @endcode
+ */
+template <class ExecutionPolicy>
+par_on_t<ExecutionPolicy> par_on(const ExecutionPolicy& exec, par_t base = {}) {
+  return par_on_t<ExecutionPolicy>(base, exec);
+}
+
+namespace detail {
+template <class Exec>
+index_t target_of(const par_t& pol) {
+  if (pol.batch) return static_cast<index_t>(pol.batch);
+  return is_cuda_policy_v<Exec> ? index_t(1) << 18 : index_t(1) << 14;
+}
+inline void report(const par_t& pol, const engine_counts& c, std::uint64_t reached) {
+  if (!pol.report) return;
+  pol.report->expansions = c.expansions;
+  pol.report->rounds = c.rounds;
+  pol.report->splits = c.splits;
+  pol.report->reached = reached;
+}
+template <class Exec, class P>
+diagram<typename P::value_type, P::dim> solve_on(const Exec& exec, const par_t& pol, const P& p,
+                                                 const std::vector<source<typename P::value_type>>& s,
+                                                 const solve_options& opt) {
+  engine_counts c;
+  auto d = solve(exec, p, s, opt, target_of<Exec>(pol), c);
+  if (pol.report) {
+    std::uint64_t r = 0;
+    for (index_t v = 0; v < d.label.size(); ++v) r += d.label[v] != no_label;
+    report(pol, c, r);
+  }
+  return d;
+}
+template <class Exec, class P>
+sparse_solution<typename P::value_type> bounded_on(const Exec& exec, const par_t& pol, const P& p,
+                                                   const std::vector<source<typename P::value_type>>& s,
+                                                   typename P::value_type radius) {
+  engine_counts c;
+  auto r = bounded(exec, p, s, radius, target_of<Exec>(pol), c);
+  report(pol, c, r.size());
+  return r;
+}
+template <class Exec, class P>
+query_cells<typename P::value_type> queries_on(const Exec& exec, const par_t& pol, const P& p,
+                                               const diagram<typename P::value_type, P::dim>& d,
+                                               const std::vector<index_t>& q) {
+  engine_counts c;
+  auto r = insert_queries(exec, p, d, q, target_of<Exec>(pol), c);
+  report(pol, c, r.voxel.size());
+  return r;
+}
+}  // namespace detail
+
+/// Dense multi-source solve (backend hook; call geovoronoi::voronoi or geovoronoi::geodesic_solve).
+template <class P>
+diagram<typename P::value_type, P::dim> backend_solve(const par_t& pol, const P& p,
+                                                      const std::vector<source<typename P::value_type>>& s,
+                                                      const solve_options& opt) {
+  return detail::solve_on(::thrust::device, pol, p, s, opt);
+}
+/// @copydoc backend_solve
+template <class E, class P>
+diagram<typename P::value_type, P::dim> backend_solve(const par_on_t<E>& pol, const P& p,
+                                                      const std::vector<source<typename P::value_type>>& s,
+                                                      const solve_options& opt) {
+  return detail::solve_on(pol.exec, pol, p, s, opt);
+}
+
+/// Bounded (sparse) solve (backend hook; call geovoronoi::bounded_solve or single_source).
+/// Scratch memory on this backend is proportional to the grid, not to the voxels reached.
+template <class P>
+sparse_solution<typename P::value_type> backend_bounded(const par_t& pol, const P& p,
+                                                        const std::vector<source<typename P::value_type>>& s,
+                                                        typename P::value_type radius) {
+  return detail::bounded_on(::thrust::device, pol, p, s, radius);
+}
+/// @copydoc backend_bounded
+template <class E, class P>
+sparse_solution<typename P::value_type> backend_bounded(const par_on_t<E>& pol, const P& p,
+                                                        const std::vector<source<typename P::value_type>>& s,
+                                                        typename P::value_type radius) {
+  return detail::bounded_on(pol.exec, pol, p, s, radius);
+}
+
+/// Batched insert-query (backend hook; call geovoronoi::insert_queries or insert_query).
+template <class P>
+query_cells<typename P::value_type> backend_insert_queries(const par_t& pol, const P& p,
+                                                           const diagram<typename P::value_type, P::dim>& d,
+                                                           const std::vector<index_t>& q) {
+  return detail::queries_on(::thrust::device, pol, p, d, q);
+}
+/// @copydoc backend_insert_queries
+template <class E, class P>
+query_cells<typename P::value_type> backend_insert_queries(const par_on_t<E>& pol, const P& p,
+                                                           const diagram<typename P::value_type, P::dim>& d,
+                                                           const std::vector<index_t>& q) {
+  return detail::queries_on(pol.exec, pol, p, d, q);
+}
+
+}  // namespace thrust
+}  // namespace geovoronoi

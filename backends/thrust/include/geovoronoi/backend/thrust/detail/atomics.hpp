@@ -1,0 +1,142 @@
+#pragma once
+// Per-voxel key cells and queue flags shared by concurrent relaxations. Host systems (CPP, OMP, TBB)
+// use the GCC/Clang __atomic builtins on plain memory; device code (nvcc, __CUDA_ARCH__) uses the
+// CUDA atomics. Every store that publishes a key is followed by a sequentially consistent (or
+// fenced) flag operation, and every expansion clears its flag before it loads its key, so a key that
+// is lowered while its voxel is being expanded always re-queues the voxel.
+
+#include <geovoronoi/config.hpp>
+#include <geovoronoi/detail/key.hpp>
+
+#include <cstdint>
+
+namespace geovoronoi::thrust::detail {
+
+/// Queue state of a voxel: not queued, in the far pile, in the near list.
+using flag_t = std::uint32_t;
+inline constexpr flag_t idle = 0;
+inline constexpr flag_t queued_far = 1;
+inline constexpr flag_t queued_near = 2;
+
+GEOVORONOI_HOST_DEVICE inline flag_t flag_load(const flag_t* f) noexcept {
+#ifdef __CUDA_ARCH__
+  return *static_cast<const volatile flag_t*>(f);
+#else
+  return __atomic_load_n(f, __ATOMIC_SEQ_CST);
+#endif
+}
+
+GEOVORONOI_HOST_DEVICE inline void flag_clear(flag_t* f) noexcept {
+#ifdef __CUDA_ARCH__
+  atomicExch(f, idle);
+  __threadfence();
+#else
+  __atomic_store_n(f, idle, __ATOMIC_SEQ_CST);
+#endif
+}
+
+GEOVORONOI_HOST_DEVICE inline bool flag_cas(flag_t* f, flag_t expect, flag_t want) noexcept {
+#ifdef __CUDA_ARCH__
+  return atomicCAS(f, expect, want) == expect;
+#else
+  return __atomic_compare_exchange_n(f, &expect, want, false, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST);
+#endif
+}
+
+GEOVORONOI_HOST_DEVICE inline void publish_fence() noexcept {
+#ifdef __CUDA_ARCH__
+  __threadfence();
+#endif
+}
+
+/// Set a shared error flag (any thread, any system).
+GEOVORONOI_HOST_DEVICE inline void raise(int* e) noexcept {
+#ifdef __CUDA_ARCH__
+  atomicExch(e, 1);
+#else
+  __atomic_store_n(e, 1, __ATOMIC_RELAXED);
+#endif
+}
+
+template <class T>
+struct key_cell;
+
+/// float: the packed 64-bit key, lowered with one atomic min (a CAS loop on the host).
+template <>
+struct key_cell<float> {
+  using kt = geovoronoi::detail::key_traits<float>;
+  using key_type = kt::key_type;
+  std::uint64_t bits;
+
+  static constexpr key_cell make(key_type k) noexcept { return key_cell{k}; }
+  GEOVORONOI_HOST_DEVICE static key_type load(const key_cell* c) noexcept {
+#ifdef __CUDA_ARCH__
+    return *reinterpret_cast<const volatile unsigned long long*>(&c->bits);
+#else
+    return __atomic_load_n(&c->bits, __ATOMIC_SEQ_CST);
+#endif
+  }
+  /// Store @p k if it is strictly smaller; true when it was stored.
+  GEOVORONOI_HOST_DEVICE static bool lower(key_cell* c, key_type k) noexcept {
+#ifdef __CUDA_ARCH__
+    const unsigned long long old = atomicMin(reinterpret_cast<unsigned long long*>(&c->bits), (unsigned long long)k);
+    return k < old;
+#else
+    key_type cur = __atomic_load_n(&c->bits, __ATOMIC_RELAXED);
+    while (k < cur)
+      if (__atomic_compare_exchange_n(&c->bits, &cur, k, true, __ATOMIC_SEQ_CST, __ATOMIC_RELAXED)) return true;
+    return false;
+#endif
+  }
+};
+
+/// double: the 96-bit key does not fit one portable atomic, so each cell carries a small spin lock.
+template <>
+struct key_cell<double> {
+  using kt = geovoronoi::detail::key_traits<double>;
+  using key_type = kt::key_type;
+  std::uint64_t d;
+  std::uint32_t l;
+  std::uint32_t lock;
+
+  static constexpr key_cell make(key_type k) noexcept { return key_cell{k.d, k.l, 0u}; }
+  GEOVORONOI_HOST_DEVICE static void acquire(key_cell* c) noexcept {
+#ifdef __CUDA_ARCH__
+    while (atomicCAS(&c->lock, 0u, 1u) != 0u) {
+    }
+    __threadfence();
+#else
+    while (__atomic_exchange_n(&c->lock, 1u, __ATOMIC_SEQ_CST) != 0u)
+      while (__atomic_load_n(&c->lock, __ATOMIC_RELAXED) != 0u) {
+      }
+#endif
+  }
+  GEOVORONOI_HOST_DEVICE static void release(key_cell* c) noexcept {
+#ifdef __CUDA_ARCH__
+    __threadfence();
+    atomicExch(&c->lock, 0u);
+#else
+    __atomic_store_n(&c->lock, 0u, __ATOMIC_SEQ_CST);
+#endif
+  }
+  GEOVORONOI_HOST_DEVICE static key_type load(const key_cell* cc) noexcept {
+    key_cell* c = const_cast<key_cell*>(cc);
+    acquire(c);
+    key_type k{static_cast<volatile std::uint64_t&>(c->d), static_cast<volatile std::uint32_t&>(c->l)};
+    release(c);
+    return k;
+  }
+  GEOVORONOI_HOST_DEVICE static bool lower(key_cell* c, key_type k) noexcept {
+    acquire(c);
+    const key_type cur{static_cast<volatile std::uint64_t&>(c->d), static_cast<volatile std::uint32_t&>(c->l)};
+    const bool better = k < cur;
+    if (better) {
+      static_cast<volatile std::uint64_t&>(c->d) = k.d;
+      static_cast<volatile std::uint32_t&>(c->l) = k.l;
+    }
+    release(c);
+    return better;
+  }
+};
+
+}  // namespace geovoronoi::thrust::detail

@@ -1,0 +1,401 @@
+#pragma once
+// The Thrust backend's engine: near-far frontier relaxation with packed (distance, label) keys.
+//
+// Voxels waiting to be expanded sit either in the near list (key distance <= theta) or in the far
+// pile (above theta). A round expands the whole near list in parallel: each expansion pushes
+// candidate keys to its neighbours with an atomic min, and a neighbour whose key dropped is queued
+// (near or far by its new distance) unless it is queued already. When the near list runs dry, theta
+// rises to the smallest far distance plus a window delta sized so that the next near list holds
+// about `target` voxels, and the far pile is split. With a narrow window almost every voxel is
+// expanded once, with its final key (Dijkstra's order, in batches); a wide one gives parallelism at
+// the price of re-expansions. The fixed point is the same either way (see docs/backend-thrust.md).
+
+#include <geovoronoi/backend/thrust/detail/atomics.hpp>
+#include <geovoronoi/backend/thrust/detail/system.hpp>
+#include <geovoronoi/detail/key.hpp>
+#include <geovoronoi/error.hpp>
+#include <geovoronoi/metric.hpp>
+
+#include <thrust/functional.h>
+#include <thrust/transform_reduce.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+
+namespace geovoronoi::thrust::detail {
+
+/// Work counters of one engine run.
+struct engine_counts {
+  std::uint64_t expansions = 0;  ///< voxels expanded (a voxel expanded twice counts twice)
+  std::uint64_t rounds = 0;      ///< parallel expansion rounds
+  std::uint64_t splits = 0;      ///< threshold raises (far-pile splits)
+};
+
+/// Grid extents for neighbour walks inside functors.
+struct extents3 {
+  index_t nx, ny, nz;
+};
+
+template <class P>
+extents3 extents_of(const P& p) noexcept {
+  return {p.geometry.extent(0), p.geometry.extent(1), P::dim == 3 ? p.geometry.extent(P::dim - 1) : 1};
+}
+
+/// Calls f(k, v) for every neighbour v = u + offset k inside the grid.
+template <class P, class F>
+GEOVORONOI_HOST_DEVICE inline void for_each_neighbour(const P& p, const extents3& e, index_t u, F& f) {
+  const index_t nxy = e.nx * e.ny;
+  const index_t z = u / nxy;
+  const index_t r = u - z * nxy;
+  const index_t y = r / e.nx;
+  const index_t x = r - y * e.nx;
+  const bool interior =
+      x > 0 && x < e.nx - 1 && y > 0 && y < e.ny - 1 && (P::dim == 2 || (z > 0 && z < e.nz - 1));
+  for (int k = 0; k < P::neighbours; ++k) {
+    if (!interior) {
+      const index_t xx = x + p.edges.offset[k][0], yy = y + p.edges.offset[k][1], zz = z + p.edges.offset[k][2];
+      if (xx < 0 || xx >= e.nx || yy < 0 || yy >= e.ny || zz < 0 || zz >= e.nz) continue;
+    }
+    f(k, u + p.edges.delta[k]);
+  }
+}
+
+/// Reserve @p k slots of a shared list; returns the first.
+GEOVORONOI_HOST_DEVICE inline index_t reserve(index_t* count, index_t k) noexcept {
+#ifdef __CUDA_ARCH__
+  return index_t(atomicAdd(reinterpret_cast<unsigned long long*>(count), static_cast<unsigned long long>(k)));
+#else
+  return __atomic_fetch_add(count, k, __ATOMIC_RELAXED);
+#endif
+}
+
+/// Expands near-list entries [j*Chunk, (j+1)*Chunk). Queued neighbours are staged locally (near ones
+/// from the front, far ones from the back), then appended to the next near list and the far pile
+/// with one reservation each.
+template <class P, class Accept, int Chunk>
+struct expand_fn {
+  using T = typename P::value_type;
+  using cell = key_cell<T>;
+  using kt = geovoronoi::detail::key_traits<T>;
+  static constexpr int N = P::neighbours;
+  static constexpr index_t top = index_t(Chunk) * N;
+
+  P p;
+  extents3 ext;
+  cell* keys;
+  flag_t* flags;
+  const index_t* list;
+  index_t count;
+  index_t* near_out;
+  index_t* far_out;
+  index_t* sizes;  // [0] near_out's, [1] far_out's
+  T theta;
+  Accept accept;
+  int* error;
+
+  GEOVORONOI_HOST_DEVICE void operator()(index_t j) const {
+    index_t stage[top];
+    const index_t begin = j * Chunk;
+    const index_t end = begin + Chunk < count ? begin + Chunk : count;
+    index_t a = 0, b = 0;
+    for (index_t i = begin; i < end; ++i) {
+      const index_t u = list[i];
+      flag_clear(flags + u);  // before the load: a later drop of u's key re-queues u
+      const auto ku = cell::load(keys + u);
+      const T du = kt::distance(ku);
+      const label_t lu = kt::label(ku);
+      const T fu = p.field[u];
+      auto relax = [&](int k, index_t v) {
+        if (!(ku < cell::load(keys + v))) return;  // weights are >= 0: v cannot improve
+        const T fv = p.field[v];
+        if (!geovoronoi::detail::inside<typename P::metric_type>(fv)) return;
+        const T w = p.metric(p.edges.length[k], fu, fv);
+        if (!(w >= T(0))) {
+          raise(error);
+          return;
+        }
+        const T nd = du + w;
+        if (!accept(v, nd)) return;
+        if (!cell::lower(keys + v, kt::make(nd, lu))) return;
+        publish_fence();
+        if (nd <= theta) {
+          for (;;) {
+            const flag_t f = flag_load(flags + v);
+            if (f == queued_near) break;
+            if (flag_cas(flags + v, f, queued_near)) {
+              stage[a++] = v;
+              break;
+            }
+          }
+        } else if (flag_load(flags + v) == idle && flag_cas(flags + v, idle, queued_far)) {
+          stage[top - 1 - b++] = v;
+        }
+      };
+      for_each_neighbour(p, ext, u, relax);
+    }
+    if (a) {
+      const index_t at = reserve(sizes, a);
+      for (index_t i = 0; i < a; ++i) near_out[at + i] = stage[i];
+    }
+    if (b) {
+      const index_t at = reserve(sizes + 1, b);
+      for (index_t i = 0; i < b; ++i) far_out[at + i] = stage[top - 1 - i];
+    }
+  }
+};
+
+/// Splits far-pile entries [j*Chunk, (j+1)*Chunk) by theta; stale entries (no longer queued far)
+/// are dropped, duplicates resolve through the flag's compare-and-swap.
+template <class T, int Chunk>
+struct split_fn {
+  using cell = key_cell<T>;
+  using kt = geovoronoi::detail::key_traits<T>;
+  cell* keys;
+  flag_t* flags;
+  const index_t* list;
+  index_t count;
+  index_t* near_out;
+  index_t* far_out;
+  index_t* sizes;
+  T theta;
+
+  GEOVORONOI_HOST_DEVICE void operator()(index_t j) const {
+    index_t stage[Chunk];
+    const index_t begin = j * Chunk;
+    const index_t end = begin + Chunk < count ? begin + Chunk : count;
+    index_t a = 0, b = 0;
+    for (index_t i = begin; i < end; ++i) {
+      const index_t v = list[i];
+      if (flag_load(flags + v) != queued_far) continue;
+      if (kt::distance(cell::load(keys + v)) <= theta) {
+        if (flag_cas(flags + v, queued_far, queued_near)) stage[a++] = v;
+      } else {
+        stage[Chunk - 1 - b++] = v;
+      }
+    }
+    if (a) {
+      const index_t at = reserve(sizes, a);
+      for (index_t i = 0; i < a; ++i) near_out[at + i] = stage[i];
+    }
+    if (b) {
+      const index_t at = reserve(sizes + 1, b);
+      for (index_t i = 0; i < b; ++i) far_out[at + i] = stage[Chunk - 1 - i];
+    }
+  }
+};
+
+/// Distance of a queued-far entry, +inf for a stale one.
+template <class T>
+struct far_distance {
+  const key_cell<T>* keys;
+  const flag_t* flags;
+  T inf;
+  GEOVORONOI_HOST_DEVICE T operator()(index_t v) const {
+    if (flag_load(flags + v) != queued_far) return inf;
+    return geovoronoi::detail::key_traits<T>::distance(key_cell<T>::load(keys + v));
+  }
+};
+template <class T>
+struct far_distance_or_low {
+  far_distance<T> d;
+  GEOVORONOI_HOST_DEVICE T operator()(index_t v) const {
+    const T x = d(v);
+    return x == d.inf ? T(-1) : x;
+  }
+};
+template <class T>
+struct far_within {
+  far_distance<T> d;
+  T theta;
+  GEOVORONOI_HOST_DEVICE index_t operator()(index_t v) const { return d(v) <= theta ? 1 : 0; }
+};
+
+/// Candidate windows: delta_0 = 0, delta_k = base * 2^(k-1).
+inline constexpr int windows = 64;
+
+template <class T>
+T window(T base, int k) noexcept {
+  return k == 0 ? T(0) : std::ldexp(base, k - 1);
+}
+
+/// Host systems: per-block smallest and largest queued distance, and per-block counts of the
+/// smallest window holding each entry (one pass each over the far pile).
+template <class T>
+struct far_range_fn {
+  far_distance<T> d;
+  const index_t* list;
+  index_t count;
+  index_t block;
+  T* lo;
+  T* hi;
+  void operator()(index_t j) const {
+    T l = d.inf, h = T(-1);
+    const index_t end = std::min(count, (j + 1) * block);
+    for (index_t i = j * block; i < end; ++i) {
+      const T x = d(list[i]);
+      if (x < l) l = x;
+      if (x != d.inf && x > h) h = x;
+    }
+    lo[j] = l;
+    hi[j] = h;
+  }
+};
+template <class T>
+struct far_histogram_fn {
+  far_distance<T> d;
+  const index_t* list;
+  index_t count;
+  index_t block;
+  T lo;
+  T base;
+  index_t* hist;  // windows per block
+  void operator()(index_t j) const {
+    index_t* h = hist + j * windows;
+    for (int k = 0; k < windows; ++k) h[k] = 0;
+    const index_t end = std::min(count, (j + 1) * block);
+    for (index_t i = j * block; i < end; ++i) {
+      const T x = d(list[i]);
+      if (x == d.inf) continue;
+      int k = 0;
+      if (x > lo) {
+        const T r = (x - lo) / base;
+        k = r < T(1) ? 1 : std::min(windows - 1, std::ilogb(r) + 1);
+        while (k > 1 && x <= lo + window(base, k - 1)) --k;
+        while (k < windows - 1 && !(x <= lo + window(base, k))) ++k;
+      }
+      ++h[k];
+    }
+  }
+};
+
+template <class V>
+void grow(V& v, index_t need) {
+  if (static_cast<index_t>(v.size()) < need) v.resize(static_cast<std::size_t>(std::max(need, 2 * index_t(v.size()))));
+}
+
+template <class Exec>
+void set_sizes(vec<Exec, index_t>& sizes, index_t a, index_t b) {
+  sizes[0] = a;  // a host store, or one small copy to the device
+  sizes[1] = b;
+}
+
+/**
+ * Runs the engine until no voxel is queued. On entry, keys hold the sources' keys (unreached
+ * elsewhere), flags are idle except for the voxels listed in @p far (queued_far). accept(v, nd)
+ * filters candidates exactly like the sequential engine's accept.
+ */
+template <class Exec, class P, class Accept>
+engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>* keys, flag_t* flags,
+                  vec<Exec, index_t>& far, index_t far_size, const Accept& accept, index_t target) {
+  using T = typename P::value_type;
+  constexpr int N = P::neighbours;
+  constexpr bool device = is_cuda_policy_v<Exec>;
+  constexpr int chunk = device ? 1 : 32;
+  constexpr int split_chunk = device ? 1 : 64;
+  const index_t cap = device ? (index_t(1) << 18) : (index_t(1) << 14);
+  const extents3 ext = extents_of(p);
+  const index_t n = p.geometry.size();
+  target = std::max<index_t>(target, 1);
+
+  vec<Exec, index_t> near, next, far2, sizes(2);
+  vec<Exec, int> error(1, 0);
+  std::vector<T> lo_part, hi_part;
+  std::vector<index_t> hist;
+  engine_counts counts;
+  index_t near_size = 0;
+  T theta = T(0);
+  const T inf = std::numeric_limits<T>::infinity();
+
+  while (near_size > 0 || far_size > 0) {
+    if (near_size == 0) {
+      // raise theta: the smallest queued distance plus the narrowest window holding `target` voxels
+      const far_distance<T> fd{keys, flags, inf};
+      const index_t* fl = raw(far);
+      T lo = inf, hi = T(-1);
+      const index_t blocks = std::max<index_t>(1, std::min<index_t>(256, far_size / 1024));
+      const index_t block = (far_size + blocks - 1) / blocks;
+      if constexpr (device) {
+        lo = ::thrust::transform_reduce(exec, fl, fl + far_size, fd, inf, ::thrust::minimum<T>());
+        hi = ::thrust::transform_reduce(exec, fl, fl + far_size, far_distance_or_low<T>{fd}, T(-1),
+                                        ::thrust::maximum<T>());
+      } else {
+        lo_part.assign(static_cast<std::size_t>(blocks), inf);
+        hi_part.assign(static_cast<std::size_t>(blocks), T(-1));
+        parallel_for(exec, blocks, far_range_fn<T>{fd, fl, far_size, block, lo_part.data(), hi_part.data()}, far_size);
+        for (index_t j = 0; j < blocks; ++j) {
+          lo = std::min(lo, lo_part[j]);
+          hi = std::max(hi, hi_part[j]);
+        }
+      }
+      if (!(lo < inf)) {  // every entry was stale
+        far_size = 0;
+        continue;
+      }
+      const T spread = hi - lo;
+      const T base = spread > T(0) ? std::max(std::ldexp(spread, -(windows - 8)), std::numeric_limits<T>::min()) : T(1);
+      int pick = windows - 1;
+      if constexpr (device) {
+        for (int k = 0; k < windows; ++k) {
+          const index_t c = ::thrust::transform_reduce(exec, fl, fl + far_size,
+                                                       far_within<T>{fd, lo + window(base, k)}, index_t(0),
+                                                       ::thrust::plus<index_t>());
+          if (c >= target || !(lo + window(base, k) < hi)) {
+            pick = k;
+            break;
+          }
+        }
+      } else {
+        hist.assign(static_cast<std::size_t>(blocks * windows), 0);
+        parallel_for(exec, blocks, far_histogram_fn<T>{fd, fl, far_size, block, lo, base, hist.data()}, far_size);
+        index_t c = 0;
+        for (int k = 0; k < windows; ++k) {
+          for (index_t j = 0; j < blocks; ++j) c += hist[j * windows + k];
+          if (c >= target || !(lo + window(base, k) < hi)) {
+            pick = k;
+            break;
+          }
+        }
+      }
+      theta = lo + window(base, pick);
+      grow(near, std::min(n, far_size));
+      grow(far2, far_size);
+      set_sizes<Exec>(sizes, 0, 0);
+      parallel_for(exec, (far_size + split_chunk - 1) / split_chunk,
+                   split_fn<T, split_chunk>{keys, flags, fl, far_size, raw(near), raw(far2), raw(sizes), theta},
+                   far_size);
+      near_size = read<Exec>(raw(sizes));
+      far_size = read<Exec>(raw(sizes) + 1);
+      using std::swap;
+      swap(far, far2);
+      ++counts.splits;
+      continue;
+    }
+    // one round: expand the near list in sub-batches
+    index_t next_size = 0;
+    for (index_t s = 0; s < near_size; s += cap) {
+      const index_t cnt = std::min(cap, near_size - s);
+      grow(next, std::min(n, next_size + cnt * N));
+      grow(far, far_size + cnt * N);
+      set_sizes<Exec>(sizes, next_size, far_size);
+      parallel_for(exec, (cnt + chunk - 1) / chunk,
+                   expand_fn<P, Accept, chunk>{p, ext, keys, flags, raw(near) + s, cnt, raw(next), raw(far), raw(sizes),
+                                               theta, accept, raw(error)},
+                   cnt * N);
+      next_size = read<Exec>(raw(sizes));
+      far_size = read<Exec>(raw(sizes) + 1);
+      counts.expansions += static_cast<std::uint64_t>(cnt);
+      ++counts.rounds;
+    }
+    if (read<Exec>(raw(error)) != 0)
+      throw metric_error("geovoronoi: the metric returned a negative or NaN edge weight; weights must be >= 0");
+    using std::swap;
+    swap(near, next);
+    near_size = next_size;
+  }
+  return counts;
+}
+
+}  // namespace geovoronoi::thrust::detail

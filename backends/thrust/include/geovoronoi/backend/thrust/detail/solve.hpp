@@ -1,0 +1,205 @@
+#pragma once
+// Dense and bounded solves on the near-far engine.
+
+#include <geovoronoi/backend/thrust/detail/near_far.hpp>
+#include <geovoronoi/image.hpp>
+#include <geovoronoi/result.hpp>
+
+#include <thrust/fill.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <limits>
+#include <vector>
+
+namespace geovoronoi::thrust::detail {
+
+template <class T>
+struct below_radius {
+  T radius;
+  GEOVORONOI_HOST_DEVICE bool operator()(index_t, T nd) const { return nd < radius; }
+};
+
+/// Writes the sources' keys and queues them far.
+template <class T>
+struct seed_fn {
+  const index_t* voxel;
+  const key_cell<T>* key;
+  key_cell<T>* keys;
+  flag_t* flags;
+  GEOVORONOI_HOST_DEVICE void operator()(index_t i) const {
+    keys[voxel[i]] = key[i];
+    flags[voxel[i]] = queued_far;
+  }
+};
+
+/// Splits keys into distance and label arrays (+inf / -1 where unreached).
+template <class T>
+struct unpack_fn {
+  const key_cell<T>* keys;
+  T* distance;
+  label_t* label;
+  T inf;
+  GEOVORONOI_HOST_DEVICE void operator()(index_t v) const {
+    using kt = geovoronoi::detail::key_traits<T>;
+    const auto k = key_cell<T>::load(keys + v);
+    if (k == kt::unreached) {
+      distance[v] = inf;
+      label[v] = no_label;
+    } else {
+      distance[v] = kt::distance(k);
+      label[v] = kt::label(k);
+    }
+  }
+};
+
+/// Working state of one engine run over the whole grid.
+template <class Exec, class T>
+struct dense_state {
+  vec<Exec, key_cell<T>> keys;
+  vec<Exec, flag_t> flags;
+  vec<Exec, index_t> far;
+  index_t far_size = 0;
+};
+
+/// Initialise keys and flags for @p sources (those not accepted, here d >= radius, are left out).
+template <class Exec, class T, class Keep>
+void seed(const Exec& exec, dense_state<Exec, T>& st, index_t n, const std::vector<source<T>>& sources, Keep keep) {
+  using kt = geovoronoi::detail::key_traits<T>;
+  st.keys.resize(static_cast<std::size_t>(n));
+  st.flags.resize(static_cast<std::size_t>(n));
+  if (go_parallel<Exec>(n)) {
+    ::thrust::fill(exec, raw(st.keys), raw(st.keys) + n, key_cell<T>::make(kt::unreached));
+    ::thrust::fill(exec, raw(st.flags), raw(st.flags) + n, idle);
+  } else {
+    std::fill(raw(st.keys), raw(st.keys) + n, key_cell<T>::make(kt::unreached));
+    std::fill(raw(st.flags), raw(st.flags) + n, idle);
+  }
+  std::vector<index_t> vox;
+  std::vector<key_cell<T>> key;
+  for (const auto& s : sources)
+    if (keep(s)) {
+      vox.push_back(s.voxel);
+      key.push_back(key_cell<T>::make(kt::make(s.distance, s.label)));
+    }
+  st.far_size = static_cast<index_t>(vox.size());
+  st.far.resize(vox.size());
+  if (vox.empty()) return;
+  vec<Exec, key_cell<T>> kv(key.begin(), key.end());
+  vec<Exec, index_t> vv(vox.begin(), vox.end());
+  st.far = vv;
+  parallel_for(exec, st.far_size, seed_fn<T>{raw(vv), raw(kv), raw(st.keys), raw(st.flags)}, st.far_size);
+}
+
+template <class Exec, class P>
+diagram<typename P::value_type, P::dim> solve(const Exec& exec, const P& p,
+                                              const std::vector<source<typename P::value_type>>& sources,
+                                              const solve_options& opt, index_t target, engine_counts& counts) {
+  using T = typename P::value_type;
+  const index_t n = p.geometry.size();
+  const T radius = static_cast<T>(opt.max_distance);
+  dense_state<Exec, T> st;
+  seed(exec, st, n, sources, [radius](const source<T>& s) { return s.distance < radius; });
+  counts = run(exec, p, raw(st.keys), raw(st.flags), st.far, st.far_size, below_radius<T>{radius}, target);
+  diagram<T, P::dim> d;
+  d.distance = image<T, P::dim>(p.geometry, T(0));
+  d.label = image<label_t, P::dim>(p.geometry, no_label);
+  const T inf = std::numeric_limits<T>::infinity();
+  if constexpr (is_cuda_policy_v<Exec>) {
+#ifdef __CUDACC__
+    vec<Exec, T> dist(static_cast<std::size_t>(n));
+    vec<Exec, label_t> lab(static_cast<std::size_t>(n));
+    parallel_for(exec, n, unpack_fn<T>{raw(st.keys), raw(dist), raw(lab), inf}, n);
+    ::thrust::copy(dist.begin(), dist.end(), d.distance.data());
+    ::thrust::copy(lab.begin(), lab.end(), d.label.data());
+#endif
+  } else {
+    parallel_for(exec, n, unpack_fn<T>{raw(st.keys), d.distance.data(), d.label.data(), inf}, n);
+  }
+  return d;
+}
+
+/// Per-chunk count / write of the reached voxels, in voxel order.
+template <class T>
+struct reached_fn {
+  const key_cell<T>* keys;
+  index_t n;
+  index_t chunk;
+  index_t* count;
+  index_t* out;  // nullptr: count pass
+  GEOVORONOI_HOST_DEVICE void operator()(index_t j) const {
+    using kt = geovoronoi::detail::key_traits<T>;
+    const index_t begin = j * chunk, end = begin + chunk < n ? begin + chunk : n;
+    if (begin >= n) {
+      if (!out) count[j] = 0;
+      return;
+    }
+    index_t c = 0;
+    for (index_t v = begin; v < end; ++v)
+      if (key_cell<T>::load(keys + v) != kt::unreached) {
+        if (out) out[count[j] + c] = v;
+        ++c;
+      }
+    if (!out) count[j] = c;
+  }
+};
+
+template <class T>
+struct sparse_fn {
+  const key_cell<T>* keys;
+  const index_t* voxel;
+  T* distance;
+  label_t* label;
+  GEOVORONOI_HOST_DEVICE void operator()(index_t i) const {
+    using kt = geovoronoi::detail::key_traits<T>;
+    const auto k = key_cell<T>::load(keys + voxel[i]);
+    distance[i] = kt::distance(k);
+    label[i] = kt::label(k);
+  }
+};
+
+/// Voxels whose key is set, sorted, with their distances and labels.
+template <class Exec, class T>
+sparse_solution<T> extract(const Exec& exec, const key_cell<T>* keys, index_t n) {
+  const index_t chunk = is_cuda_policy_v<Exec> ? 256 : 4096;
+  const index_t chunks = (n + chunk - 1) / chunk;
+  vec<Exec, index_t> count(static_cast<std::size_t>(chunks + 1));
+  parallel_for(exec, chunks + 1, reached_fn<T>{keys, n, chunk, raw(count), nullptr}, n);
+  const index_t total = exclusive_scan(exec, raw(count), chunks + 1);
+  sparse_solution<T> r;
+  r.voxel.resize(static_cast<std::size_t>(total));
+  r.distance.resize(static_cast<std::size_t>(total));
+  r.label.resize(static_cast<std::size_t>(total));
+  if (total == 0) return r;
+  vec<Exec, index_t> vox(static_cast<std::size_t>(total));
+  vec<Exec, T> dist(static_cast<std::size_t>(total));
+  vec<Exec, label_t> lab(static_cast<std::size_t>(total));
+  parallel_for(exec, chunks, reached_fn<T>{keys, n, chunk, raw(count), raw(vox)}, n);
+  parallel_for(exec, total, sparse_fn<T>{keys, raw(vox), raw(dist), raw(lab)}, total);
+  if constexpr (is_cuda_policy_v<Exec>) {
+#ifdef __CUDACC__
+    ::thrust::copy(vox.begin(), vox.end(), r.voxel.begin());
+    ::thrust::copy(dist.begin(), dist.end(), r.distance.begin());
+    ::thrust::copy(lab.begin(), lab.end(), r.label.begin());
+#endif
+  } else {
+    r.voxel = std::move(vox);
+    r.distance = std::move(dist);
+    r.label = std::move(lab);
+  }
+  return r;
+}
+
+template <class Exec, class P>
+sparse_solution<typename P::value_type> bounded(const Exec& exec, const P& p,
+                                                const std::vector<source<typename P::value_type>>& sources,
+                                                typename P::value_type radius, index_t target, engine_counts& counts) {
+  using T = typename P::value_type;
+  const index_t n = p.geometry.size();
+  dense_state<Exec, T> st;
+  seed(exec, st, n, sources, [radius](const source<T>& s) { return s.distance < radius; });
+  counts = run(exec, p, raw(st.keys), raw(st.flags), st.far, st.far_size, below_radius<T>{radius}, target);
+  return extract(exec, raw(st.keys), n);
+}
+
+}  // namespace geovoronoi::thrust::detail

@@ -1,0 +1,141 @@
+#pragma once
+// What differs between Thrust systems, kept in one place: where the working arrays live (host
+// memory for CPP/OMP/TBB, device memory for CUDA), how a few per-chunk counts are scanned, and how
+// a value is read back. Everything else is the same code on every system.
+
+#include <geovoronoi/config.hpp>
+
+#include <thrust/execution_policy.h>
+#include <thrust/for_each.h>
+#include <thrust/iterator/counting_iterator.h>
+#include <thrust/scan.h>
+
+#include <type_traits>
+#include <vector>
+
+#ifdef __CUDACC__
+#include <thrust/copy.h>
+#include <thrust/system/cuda/vector.h>
+#endif
+
+namespace geovoronoi::thrust::detail {
+
+#ifdef __CUDACC__
+template <class D>
+std::true_type is_cuda_policy_test(const ::thrust::cuda_cub::execution_policy<D>*);
+#endif
+std::false_type is_cuda_policy_test(...);
+
+/// Whether an execution policy runs on the CUDA system (its memory is device memory).
+template <class Exec>
+inline constexpr bool is_cuda_policy_v = decltype(is_cuda_policy_test(static_cast<const Exec*>(nullptr)))::value;
+
+template <class Exec, class U, bool Device = is_cuda_policy_v<Exec>>
+struct vector_for {
+  using type = std::vector<U>;
+};
+#ifdef __CUDACC__
+template <class Exec, class U>
+struct vector_for<Exec, U, true> {
+  using type = ::thrust::cuda::vector<U>;
+};
+#endif
+
+/// A working array in the memory of the system that @p Exec runs on.
+template <class Exec, class U>
+using vec = typename vector_for<Exec, U>::type;
+
+template <class U>
+U* raw(std::vector<U>& v) noexcept {
+  return v.data();
+}
+template <class V>
+auto raw(V& v) noexcept -> decltype(::thrust::raw_pointer_cast(v.data())) {
+  return ::thrust::raw_pointer_cast(v.data());
+}
+
+/// Read one element of system memory on the host.
+template <class Exec, class U>
+U read(const U* p) {
+  if constexpr (is_cuda_policy_v<Exec>) {
+#ifdef __CUDACC__
+    U x;
+    ::thrust::copy(::thrust::device_pointer_cast(p), ::thrust::device_pointer_cast(p) + 1, &x);
+    return x;
+#endif
+  } else {
+    return *p;
+  }
+}
+
+/// Replace counts[0..n) by their exclusive prefix sums; returns the total.
+template <class Exec>
+index_t exclusive_scan(const Exec& exec, index_t* counts, index_t n) {
+  if (n == 0) return 0;
+  if constexpr (is_cuda_policy_v<Exec>) {
+    const index_t last = read<Exec>(counts + n - 1);
+    ::thrust::exclusive_scan(exec, counts, counts + n, counts);
+    return read<Exec>(counts + n - 1) + last;
+  } else {
+    // host memory and few chunks: a plain loop beats a (possibly sequential) library scan
+    index_t s = 0;
+    for (index_t i = 0; i < n; ++i) {
+      const index_t c = counts[i];
+      counts[i] = s;
+      s += c;
+    }
+    return s;
+  }
+}
+
+/// Work (in voxel visits) below which a host system runs a step on the calling thread: waking a
+/// thread team costs more than a small step, and much more on a loaded machine.
+inline constexpr index_t host_grain = 4096;
+
+/// Whether a step of @p work voxel visits should run in parallel on @p Exec's system.
+template <class Exec>
+bool go_parallel(index_t work) noexcept {
+  return is_cuda_policy_v<Exec> || work >= host_grain;
+}
+
+/// Host systems: a few worker slots that take blocks of indices from a shared counter. Thrust's
+/// OpenMP for_each splits its range statically, so one descheduled thread (a loaded machine) would
+/// hold up the whole step; with self-scheduling the other threads take its share.
+template <class F>
+struct self_scheduled {
+  F f;
+  index_t n;
+  index_t block;
+  index_t* next;
+  void operator()(index_t) const {
+    for (;;) {
+      const index_t b = __atomic_fetch_add(next, index_t(1), __ATOMIC_RELAXED);
+      const index_t begin = b * block;
+      if (begin >= n) return;
+      const index_t end = begin + block < n ? begin + block : n;
+      for (index_t i = begin; i < end; ++i) f(i);
+    }
+  }
+};
+
+/// Call f(i) for i in [0, n) on the policy's system (on the calling thread when @p work is small).
+template <class Exec, class F>
+void parallel_for(const Exec& exec, index_t n, const F& f, index_t work) {
+  if (n <= 0) return;
+  if constexpr (is_cuda_policy_v<Exec>) {
+    (void)work;
+    ::thrust::for_each(exec, ::thrust::counting_iterator<index_t>(0), ::thrust::counting_iterator<index_t>(n), f);
+  } else {
+    if (!go_parallel<Exec>(work)) {
+      for (index_t i = 0; i < n; ++i) f(i);
+      return;
+    }
+    const index_t slots = n < 64 ? n : 64;
+    const index_t block = (n + 511) / 512;
+    index_t next = 0;
+    ::thrust::for_each(exec, ::thrust::counting_iterator<index_t>(0), ::thrust::counting_iterator<index_t>(slots),
+                       self_scheduled<F>{f, n, block, &next});
+  }
+}
+
+}  // namespace geovoronoi::thrust::detail

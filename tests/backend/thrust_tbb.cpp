@@ -1,0 +1,10 @@
+// The shared backend suite on the Thrust backend, TBB system (an explicit execution policy).
+#include <geovoronoi.hpp>
+#include <geovoronoi/backend/thrust.hpp>
+
+#include <thrust/system/tbb/execution_policy.h>
+
+#define GEOVORONOI_TEST_BACKEND_NAME "thrust_tbb"
+#define GEOVORONOI_TEST_POLICY() ::geovoronoi::thrust::par_on(::thrust::tbb::par)
+#include "backend/suite.hpp"
+#include "backend/thrust_extra.hpp"
