@@ -43,11 +43,12 @@ const char* const usage_text =
     "  geovoronoi demo [--out DIR] [--backend B]\n"
     "F: .mhd, .mha, .npy, or .pgm/.ppm (with --extrude N for N slices). S.csv: one seed per line, i,j,k.\n";
 
-/// Backends compiled into this binary, fastest first.
+/// Backends compiled into this binary, fastest first. The Thrust backend is built on OpenMP host
+/// threads here; on the demo's steak (393k voxels, 12 seeds) the sequential Dijkstra measured faster
+/// (0.04 s vs 1.5 s for the diagram on a shared 2-core machine), so seq stays the default.
 std::vector<std::string> built_backends() {
-  std::vector<std::string> b;
+  std::vector<std::string> b{"seq"};
   if (GV_CLI_HAVE_THRUST) b.push_back("thrust");
-  b.push_back("seq");
   return b;
 }
 
