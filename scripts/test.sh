@@ -28,4 +28,28 @@ cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGEOVORONOI_SANI
 cmake --build build-sanitize -j"$jobs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-sanitize --output-on-failure -j"$jobs" -LE "consumer|fuzz"
+
+# ---- fuzzing (owned by the I/O work): libFuzzer on the MetaImage, NumPy and PGM/PPM parsers ----
+# Built apart with clang in build-fuzz/ (only the fuzz targets), each run for a bounded time on a
+# copy of the seed corpus in tests/fuzz/corpus/. A crash, sanitizer report, leak or timeout fails.
+if command -v clang++ >/dev/null 2>&1; then
+  fuzz_seconds="${GEOVORONOI_FUZZ_SECONDS:-20}"
+  echo "== fuzzing (clang, ${fuzz_seconds} s per parser)"
+  cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DGEOVORONOI_FUZZ=ON \
+        -DGEOVORONOI_BUILD_BENCH=OFF -DGEOVORONOI_BUILD_TOOLS=OFF -DGEOVORONOI_THRUST=OFF -DGEOVORONOI_CUDA=OFF >/dev/null
+  cmake --build build-fuzz --target fuzz_metaimage fuzz_npy fuzz_pnm -j"$jobs"
+  for f in metaimage npy pnm; do
+    rm -rf "build-fuzz/corpus-$f" && mkdir -p "build-fuzz/corpus-$f"
+    cp tests/fuzz/corpus/"$f"/* "build-fuzz/corpus-$f"/
+    if ! (cd build-fuzz && ./tests/fuzz_"$f" -max_total_time="$fuzz_seconds" -timeout=10 -rss_limit_mb=2048 \
+          -max_len=4096 -print_final_stats=1 "corpus-$f" > "fuzz-$f.log" 2>&1); then
+      tail -n 40 "build-fuzz/fuzz-$f.log"
+      echo "fuzz_$f found a problem (see build-fuzz/fuzz-$f.log and build-fuzz/crash-*)"
+      exit 1
+    fi
+    grep -E "^stat::number_of_executed_units|Done" "build-fuzz/fuzz-$f.log" | head -n 2
+  done
+else
+  echo "== fuzzing skipped (no clang++)"
+fi
 echo "== all tests passed in $((SECONDS - start)) s"

@@ -1,0 +1,284 @@
+#pragma once
+/// @file io/common.hpp
+/// @brief Shared pieces of the volume readers and writers: the I/O exception, element types, the
+///        multi-channel volume container and bounded file access.
+///
+/// Every reader checks the sizes a header announces against the bytes the file really holds before
+/// it allocates anything, so a malformed or lying file ends in a geovoronoi::io::io_error naming the
+/// file and the problem, never in a crash, a hang or a huge allocation.
+
+#include <geovoronoi/config.hpp>
+#include <geovoronoi/error.hpp>
+#include <geovoronoi/grid.hpp>
+#include <geovoronoi/image.hpp>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace geovoronoi::io {
+
+/// @brief A file could not be read or written, or its content is malformed. what() starts with the
+///        file name; file() and problem() give the two parts separately.
+class io_error : public geovoronoi::error {
+ public:
+  io_error(const std::string& file, const std::string& problem)
+      : error(file + ": " + problem), file_(file), problem_(problem) {}
+  const std::string& file() const noexcept { return file_; }
+  const std::string& problem() const noexcept { return problem_; }
+
+ private:
+  std::string file_;
+  std::string problem_;
+};
+
+/// Scalar element types the formats can carry (MetaImage MET_*, NumPy descr, VTK type names).
+enum class element_type { int8, uint8, int16, uint16, int32, uint32, int64, uint64, float32, float64 };
+
+/// Size in bytes of one element of type t.
+constexpr std::size_t element_size(element_type t) noexcept {
+  switch (t) {
+    case element_type::int8: case element_type::uint8: return 1;
+    case element_type::int16: case element_type::uint16: return 2;
+    case element_type::int32: case element_type::uint32: case element_type::float32: return 4;
+    default: return 8;
+  }
+}
+
+/// The element_type of a C++ arithmetic type (compile error for anything else).
+template <class T>
+constexpr element_type element_type_of() noexcept {
+  static_assert(std::is_arithmetic_v<T> && !std::is_same_v<T, bool>,
+                "geovoronoi::io: element types must be integer or floating-point scalars");
+  if constexpr (std::is_floating_point_v<T>) {
+    static_assert(sizeof(T) == 4 || sizeof(T) == 8, "geovoronoi::io: float and double only");
+    return sizeof(T) == 4 ? element_type::float32 : element_type::float64;
+  } else if constexpr (std::is_signed_v<T>) {
+    return sizeof(T) == 1 ? element_type::int8 : sizeof(T) == 2 ? element_type::int16
+         : sizeof(T) == 4 ? element_type::int32 : element_type::int64;
+  } else {
+    return sizeof(T) == 1 ? element_type::uint8 : sizeof(T) == 2 ? element_type::uint16
+         : sizeof(T) == 4 ? element_type::uint32 : element_type::uint64;
+  }
+}
+
+/// How several channels (components) per voxel are stored in a file.
+enum class channel_layout {
+  interleaved,  ///< all channels of voxel 0, then of voxel 1, ... (ITK, VTK, NumPy [z,y,x,c])
+  planar        ///< one whole volume per channel, channel c of voxel v at c*size + v (SOFA / CImg)
+};
+
+/**
+ * @brief A volume with any number of channels, as read from or written to a file.
+ *
+ * In memory the channels are always planar: channel c of voxel v is data[c * voxels() + v], voxels
+ * x fastest (v = x + nx*(y + ny*z)). 2D files have extents[2] == 1 and dims == 2.
+ */
+template <class T>
+struct volume {
+  int dims = 3;                                  ///< dimensions stored in the file (1, 2 or 3)
+  std::array<index_t, 3> extents{1, 1, 1};       ///< voxels along x, y, z
+  std::array<double, 3> spacing{1.0, 1.0, 1.0};  ///< physical voxel size
+  std::array<double, 3> origin{0.0, 0.0, 0.0};   ///< world position of voxel 0's centre
+  std::array<double, 9> orientation{1, 0, 0, 0, 1, 0, 0, 0, 1};  ///< direction cosines, row-major
+  int channels = 1;
+  element_type stored = element_type_of<T>();    ///< the element type the file held (or will hold)
+  std::vector<T> data;                           ///< channels * voxels() values, planar
+
+  index_t voxels() const noexcept { return extents[0] * extents[1] * extents[2]; }
+
+  /// The grid (Dim 2 needs extents[2] == 1).
+  template <int Dim>
+  grid<Dim> geometry() const {
+    static_assert(Dim == 2 || Dim == 3, "geovoronoi::io::volume: Dim must be 2 or 3");
+    if constexpr (Dim == 2) {
+      if (extents[2] != 1)
+        throw std::invalid_argument("geovoronoi::io::volume: a 3D volume with " + std::to_string(extents[2]) +
+                                    " slices cannot be viewed as a 2D grid");
+      return grid<2>({extents[0], extents[1]}, {spacing[0], spacing[1]}, {origin[0], origin[1]});
+    } else {
+      return grid<3>(extents, spacing, origin);
+    }
+  }
+
+  /// One channel as an image (copy).
+  template <int Dim = 3>
+  image<T, Dim> channel(int c = 0) const {
+    if (c < 0 || c >= channels)
+      throw std::invalid_argument("geovoronoi::io::volume: channel " + std::to_string(c) + " of " +
+                                  std::to_string(channels) + " requested");
+    const auto n = static_cast<std::size_t>(voxels());
+    return image<T, Dim>(geometry<Dim>(), std::vector<T>(data.begin() + std::ptrdiff_t(c * n),
+                                                         data.begin() + std::ptrdiff_t((c + 1) * n)));
+  }
+};
+
+/// A single-channel volume describing an image (same grid, one channel).
+template <class T, class U, int Dim>
+volume<T> make_volume(const image<U, Dim>& img) {
+  volume<T> v;
+  v.dims = Dim;
+  for (int a = 0; a < Dim; ++a) {
+    v.extents[a] = img.geometry().extent(a);
+    v.spacing[a] = img.geometry().spacing(a);
+    v.origin[a] = img.geometry().origin()[a];
+  }
+  v.data.resize(static_cast<std::size_t>(img.size()));
+  for (index_t i = 0; i < img.size(); ++i) v.data[static_cast<std::size_t>(i)] = static_cast<T>(img[i]);
+  return v;
+}
+
+namespace detail {
+
+/// Largest voxel count any reader accepts (2^40); real limits come from the file size.
+inline constexpr std::uint64_t max_voxels = std::uint64_t(1) << 40;
+
+/// a * b, or false when it overflows `limit`.
+inline bool checked_mul(std::uint64_t a, std::uint64_t b, std::uint64_t& out,
+                        std::uint64_t limit = std::numeric_limits<std::uint64_t>::max()) noexcept {
+  if (a != 0 && b > limit / a) return false;
+  out = a * b;
+  return true;
+}
+
+inline bool host_is_little_endian() noexcept {
+  const std::uint16_t one = 1;
+  unsigned char b;
+  std::memcpy(&b, &one, 1);
+  return b == 1;
+}
+
+inline void byte_swap(unsigned char* p, std::size_t n, std::size_t size) noexcept {
+  if (size <= 1) return;
+  for (std::size_t i = 0; i < n; ++i, p += size)
+    for (std::size_t a = 0, b = size - 1; a < b; ++a, --b) std::swap(p[a], p[b]);
+}
+
+template <class S, class T>
+void convert_from(const unsigned char* src, std::size_t n, T* out) {
+  for (std::size_t i = 0; i < n; ++i) {
+    S s;
+    std::memcpy(&s, src + i * sizeof(S), sizeof(S));
+    out[i] = static_cast<T>(s);
+  }
+}
+
+/// Converts n elements of type `type` (native byte order) to T.
+template <class T>
+void convert(element_type type, const unsigned char* src, std::size_t n, T* out) {
+  switch (type) {
+    case element_type::int8: return convert_from<std::int8_t>(src, n, out);
+    case element_type::uint8: return convert_from<std::uint8_t>(src, n, out);
+    case element_type::int16: return convert_from<std::int16_t>(src, n, out);
+    case element_type::uint16: return convert_from<std::uint16_t>(src, n, out);
+    case element_type::int32: return convert_from<std::int32_t>(src, n, out);
+    case element_type::uint32: return convert_from<std::uint32_t>(src, n, out);
+    case element_type::int64: return convert_from<std::int64_t>(src, n, out);
+    case element_type::uint64: return convert_from<std::uint64_t>(src, n, out);
+    case element_type::float32: return convert_from<float>(src, n, out);
+    case element_type::float64: return convert_from<double>(src, n, out);
+  }
+}
+
+template <class D, class T>
+void convert_to(const T* in, std::size_t n, unsigned char* dst) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const D d = static_cast<D>(in[i]);
+    std::memcpy(dst + i * sizeof(D), &d, sizeof(D));
+  }
+}
+
+/// Converts n values of T to `type` in native byte order.
+template <class T>
+void convert_back(element_type type, const T* in, std::size_t n, unsigned char* dst) {
+  switch (type) {
+    case element_type::int8: return convert_to<std::int8_t>(in, n, dst);
+    case element_type::uint8: return convert_to<std::uint8_t>(in, n, dst);
+    case element_type::int16: return convert_to<std::int16_t>(in, n, dst);
+    case element_type::uint16: return convert_to<std::uint16_t>(in, n, dst);
+    case element_type::int32: return convert_to<std::int32_t>(in, n, dst);
+    case element_type::uint32: return convert_to<std::uint32_t>(in, n, dst);
+    case element_type::int64: return convert_to<std::int64_t>(in, n, dst);
+    case element_type::uint64: return convert_to<std::uint64_t>(in, n, dst);
+    case element_type::float32: return convert_to<float>(in, n, dst);
+    case element_type::float64: return convert_to<double>(in, n, dst);
+  }
+}
+
+/// Reorders channel-interleaved values into planar order (or back with to_planar = false).
+template <class T>
+std::vector<T> reorder_channels(const std::vector<T>& in, std::size_t voxels, std::size_t channels, bool to_planar) {
+  if (channels <= 1) return in;
+  std::vector<T> out(in.size());
+  for (std::size_t v = 0; v < voxels; ++v)
+    for (std::size_t c = 0; c < channels; ++c) {
+      if (to_planar) out[c * voxels + v] = in[v * channels + c];
+      else out[v * channels + c] = in[c * voxels + v];
+    }
+  return out;
+}
+
+/// A whole binary file in memory (files are read once; sizes are checked against it).
+inline std::vector<unsigned char> read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw io_error(path, "cannot open the file for reading");
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size < 0) throw io_error(path, "cannot determine the file size");
+  in.seekg(0, std::ios::beg);
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
+  if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size))
+    throw io_error(path, "read error");
+  return bytes;
+}
+
+/// Writes bytes to a file, throwing io_error on failure.
+inline void write_file(const std::string& path, const void* data, std::size_t size, bool append = false) {
+  std::ofstream out(path, std::ios::binary | (append ? std::ios::app : std::ios::trunc));
+  if (!out) throw io_error(path, "cannot open the file for writing");
+  if (size) out.write(static_cast<const char*>(data), static_cast<std::streamsize>(size));
+  out.flush();
+  if (!out) throw io_error(path, "write error (disk full?)");
+}
+
+inline std::string lower(std::string s) {
+  for (auto& ch : s) ch = static_cast<char>(ch >= 'A' && ch <= 'Z' ? ch - 'A' + 'a' : ch);
+  return s;
+}
+
+inline std::string extension(const std::string& path) {
+  const auto slash = path.find_last_of("/\\");
+  const auto dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return {};
+  return lower(path.substr(dot));
+}
+
+inline std::string directory_of(const std::string& path) {
+  const auto slash = path.find_last_of("/\\");
+  return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+inline std::string base_name(const std::string& path) {
+  const auto slash = path.find_last_of("/\\");
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+/// Shortest decimal text that reads back to the same double.
+inline std::string format_double(double x) {
+  char buf[40];
+  for (int prec = 6; prec <= 17; ++prec) {
+    std::snprintf(buf, sizeof buf, "%.*g", prec, x);
+    if (std::strtod(buf, nullptr) == x) break;
+  }
+  return buf;
+}
+
+}  // namespace detail
+}  // namespace geovoronoi::io

@@ -1,0 +1,214 @@
+# End-to-end tests of the geovoronoi command-line tool (run by ctest as `cmake -P`):
+#   -DGEOVORONOI=<path of the binary> -DWORK=<scratch folder>
+# Good runs must exit 0 and leave readable outputs of the right sizes; every bad input must exit 2
+# with exactly one line on stderr that names the problem, and leave no output folder behind.
+cmake_minimum_required(VERSION 3.20)
+if(NOT GEOVORONOI OR NOT WORK)
+  message(FATAL_ERROR "usage: cmake -DGEOVORONOI=<binary> -DWORK=<dir> -P run_cli.cmake")
+endif()
+file(REMOVE_RECURSE ${WORK})
+file(MAKE_DIRECTORY ${WORK})
+set(failures 0)
+
+macro(fail msg)
+  message(SEND_ERROR "FAIL: ${msg}")
+  math(EXPR failures "${failures} + 1")
+endmacro()
+
+# A 12 x 10 picture: soft (100) everywhere, a stiff bar (255) in the middle, background (0) corners.
+set(pgm "P2\n# test stiffness\n12 10\n255\n")
+foreach(y RANGE 9)
+  set(row "")
+  foreach(x RANGE 11)
+    if((x EQUAL 0 AND y EQUAL 0) OR (x EQUAL 11 AND y EQUAL 9))
+      set(v 0)
+    elseif(x EQUAL 6 AND y GREATER 1)
+      set(v 255)
+    else()
+      set(v 100)
+    endif()
+    string(APPEND row "${v} ")
+  endforeach()
+  string(APPEND pgm "${row}\n")
+endforeach()
+file(WRITE ${WORK}/stiff.pgm "${pgm}")
+file(WRITE ${WORK}/seeds.csv "# i,j,k\n2,2,1\n9, 7, 2   # trailing comment\n\n4,8,3\n")
+file(WRITE ${WORK}/world.csv "2.2,2.4,1.0\n9.1,6.6,2.0\n")
+
+# run(<name> <expected exit code> args...): sets OUT_<name>, ERR_<name>
+function(run name expect)
+  execute_process(COMMAND ${GEOVORONOI} ${ARGN} WORKING_DIRECTORY ${WORK}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 120)
+  set(OUT_${name} "${out}" PARENT_SCOPE)
+  set(ERR_${name} "${err}" PARENT_SCOPE)
+  if(NOT rc STREQUAL "${expect}")
+    message(SEND_ERROR "FAIL: ${name}: exit code ${rc}, expected ${expect}\nstdout: ${out}\nstderr: ${err}")
+    set(bad 1 PARENT_SCOPE)
+  else()
+    set(bad 0 PARENT_SCOPE)
+  endif()
+endfunction()
+
+function(expect_file path min_size)
+  if(NOT EXISTS ${path})
+    message(SEND_ERROR "FAIL: missing output ${path}")
+    return()
+  endif()
+  file(SIZE ${path} size)
+  if(size LESS ${min_size})
+    message(SEND_ERROR "FAIL: ${path} has ${size} bytes, expected at least ${min_size}")
+  endif()
+endfunction()
+
+# ---- good runs -------------------------------------------------------------------------------
+set(voxels 480)  # 12 x 10 x 4
+run(voronoi 0 voronoi --stiffness stiff.pgm --extrude 4 --seeds seeds.csv --out out-v)
+if(NOT OUT_voronoi MATCHES "480 voxels, 3 seeds, backend [a-z]+, [0-9.]+ s")
+  fail("voronoi summary line: ${OUT_voronoi}")
+endif()
+math(EXPR bytes4 "${voxels} * 4")
+foreach(f distance.raw label.raw)
+  expect_file(${WORK}/out-v/${f} ${bytes4})
+  file(SIZE ${WORK}/out-v/${f} size)
+  if(NOT size EQUAL bytes4)
+    fail("${f} has ${size} bytes, expected ${bytes4}")
+  endif()
+endforeach()
+foreach(f distance.mhd label.mhd labels.png distance.png voronoi.vti)
+  expect_file(${WORK}/out-v/${f} 50)
+endforeach()
+file(READ ${WORK}/out-v/label.mhd hdr)
+if(NOT hdr MATCHES "ElementType = MET_INT" OR NOT hdr MATCHES "DimSize = 12 10 4")
+  fail("label.mhd header: ${hdr}")
+endif()
+file(READ ${WORK}/out-v/distance.mhd hdr)
+if(NOT hdr MATCHES "ElementType = MET_FLOAT")
+  fail("distance.mhd header: ${hdr}")
+endif()
+file(READ ${WORK}/out-v/labels.png sig LIMIT 4 HEX)
+if(NOT sig STREQUAL "89504e47")
+  fail("labels.png is not a PNG (${sig})")
+endif()
+file(GLOB partial ${WORK}/*.partial-*)
+if(partial)
+  fail("partial output left behind: ${partial}")
+endif()
+
+# the outputs are valid inputs: MetaImage (label.mhd: -1/0 masked, labels >= 1 inside) and world seeds
+run(reread 0 voronoi --stiffness out-v/distance.mhd --seeds world.csv --world --metric mean_cost
+    --connectivity 6 --backend seq --out out-r)
+expect_file(${WORK}/out-r/label.raw ${bytes4})
+# rerunning into an existing folder replaces its files
+run(again 0 voronoi --stiffness stiff.pgm --extrude 4 --seeds seeds.csv --connectivity 18 --metric mean_stiffness --out out-v)
+
+foreach(method sibson distance-ratio laplace)
+  run(shape_${method} 0 shape-functions --stiffness stiff.pgm --extrude 4 --seeds seeds.csv --method ${method}
+      --nodes-per-voxel 3 --out out-${method})
+  math(EXPR kbytes "${voxels} * 3 * 4")
+  foreach(f indices.raw weights.raw)
+    file(SIZE ${WORK}/out-${method}/${f} size)
+    if(NOT size EQUAL kbytes)
+      fail("${method}/${f} has ${size} bytes, expected ${kbytes}")
+    endif()
+  endforeach()
+  file(READ ${WORK}/out-${method}/indices.mhd hdr)
+  if(NOT hdr MATCHES "ElementType = MET_UINT" OR NOT hdr MATCHES "ElementNumberOfChannels = 3")
+    fail("${method}/indices.mhd header: ${hdr}")
+  endif()
+  foreach(f weights_indptr.npy weights_indices.npy weights_data.npy weight_node0.png labels.png label.mhd)
+    expect_file(${WORK}/out-${method}/${f} 50)
+  endforeach()
+  # indptr holds voxels + 1 int64 values after a 128-byte header
+  file(SIZE ${WORK}/out-${method}/weights_indptr.npy size)
+  math(EXPR want "128 + (${voxels} + 1) * 8")
+  if(NOT size EQUAL want)
+    fail("${method}/weights_indptr.npy has ${size} bytes, expected ${want}")
+  endif()
+endforeach()
+
+# ---- bad input: exit 2, one line on stderr naming the problem, no output folder ----------------
+file(WRITE ${WORK}/outside.csv "2,2,1\n40,2,1\n")
+file(WRITE ${WORK}/masked.csv "0,0,0\n")
+file(WRITE ${WORK}/dup.csv "2,2,1\n3,3,1\n2,2,1\n")
+file(WRITE ${WORK}/text.csv "2,two,1\n")
+file(WRITE ${WORK}/frac.csv "2.5,2,1\n")
+file(WRITE ${WORK}/empty.csv "# nothing\n\n")
+file(WRITE ${WORK}/short.csv "2\n")
+file(WRITE ${WORK}/lying.mhd "ObjectType = Image\nNDims = 3\nDimSize = 1000000 1000000 1000000\nElementType = MET_FLOAT\nElementDataFile = lying.raw\n")
+file(WRITE ${WORK}/lying.raw "0123456789")
+file(WRITE ${WORK}/truncated.mhd "ObjectType = Image\nNDims = 3\nDimSize = 4 4 4\nElementType = MET_FLOAT\nElementDataFile = lying.raw\n")
+file(WRITE ${WORK}/garbage.npy "this is not numpy")
+file(WRITE ${WORK}/stiff.tif "II*")
+
+set(S --stiffness stiff.pgm --extrude 4)
+set(SC "--stiffness,stiff.pgm,--extrude,4")
+set(cases
+  "no_command|missing command"
+  "bad_command|frobnicate|unknown command"
+  "unknown_option|voronoi,${SC},--seeds,seeds.csv,--out,x1,--colour,red|unknown option"
+  "missing_value|voronoi,${SC},--seeds,seeds.csv,--out|needs a value"
+  "no_stiffness|voronoi,--seeds,seeds.csv,--out,x2|--stiffness"
+  "no_seeds|voronoi,${SC},--out,x3|--seeds"
+  "no_out|voronoi,${SC},--seeds,seeds.csv|--out"
+  "missing_file|voronoi,--stiffness,nope.mhd,--seeds,seeds.csv,--out,x4|nope.mhd"
+  "lying_header|voronoi,--stiffness,lying.mhd,--seeds,seeds.csv,--out,x5|lying.mhd"
+  "truncated|voronoi,--stiffness,truncated.mhd,--seeds,seeds.csv,--out,x6|truncated"
+  "garbage_npy|voronoi,--stiffness,garbage.npy,--seeds,seeds.csv,--out,x7|garbage.npy"
+  "unknown_format|voronoi,--stiffness,stiff.tif,--seeds,seeds.csv,--out,x8|unknown volume format"
+  "extrude_not_picture|voronoi,--stiffness,out-v/distance.mhd,--extrude,3,--seeds,seeds.csv,--out,x9|--extrude"
+  "bad_extrude|voronoi,--stiffness,stiff.pgm,--extrude,0,--seeds,seeds.csv,--out,x10|--extrude"
+  "seed_outside|voronoi,${SC},--seeds,outside.csv,--out,x11|outside.csv:2"
+  "seed_masked|voronoi,${SC},--seeds,masked.csv,--out,x12|masked"
+  "seed_duplicate|voronoi,${SC},--seeds,dup.csv,--out,x13|same voxel"
+  "seed_text|voronoi,${SC},--seeds,text.csv,--out,x14|not a number"
+  "seed_fraction|voronoi,${SC},--seeds,frac.csv,--out,x15|not an integer"
+  "seed_empty|voronoi,${SC},--seeds,empty.csv,--out,x16|no seeds"
+  "seed_short|voronoi,${SC},--seeds,short.csv,--out,x17|expected"
+  "seed_file_missing|voronoi,${SC},--seeds,nope.csv,--out,x18|nope.csv"
+  "bad_metric|voronoi,${SC},--seeds,seeds.csv,--metric,euclid,--out,x19|unknown metric"
+  "bad_connectivity|voronoi,${SC},--seeds,seeds.csv,--connectivity,7,--out,x20|connectivity"
+  "bad_backend|voronoi,${SC},--seeds,seeds.csv,--backend,opencl,--out,x21|unknown backend"
+  "bad_out_parent|voronoi,${SC},--seeds,seeds.csv,--out,no/such/dir|does not exist"
+  "no_method|shape-functions,${SC},--seeds,seeds.csv,--out,x22|--method"
+  "bad_method|shape-functions,${SC},--seeds,seeds.csv,--method,kriging,--out,x23|unknown method"
+  "bad_k|shape-functions,${SC},--seeds,seeds.csv,--method,sibson,--nodes-per-voxel,0,--out,x24|--nodes-per-voxel"
+  "demo_bad_option|demo,--size,3|unknown option"
+)
+# a backend that exists in the tool's vocabulary but may not be built: exit 2 unless built
+execute_process(COMMAND ${GEOVORONOI} voronoi ${S} --seeds seeds.csv --backend cuda --out ${WORK}/xc
+                WORKING_DIRECTORY ${WORK} RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_QUIET)
+if(NOT rc EQUAL 0 AND NOT (rc EQUAL 2 AND err MATCHES "not built"))
+  fail("--backend cuda: exit ${rc}, stderr ${err}")
+endif()
+
+foreach(c ${cases})
+  string(REPLACE "|" ";" parts "${c}")
+  list(GET parts 0 name)
+  list(LENGTH parts n)
+  math(EXPR last "${n} - 1")
+  list(GET parts ${last} needle)
+  set(args "")
+  if(n GREATER 2)
+    list(GET parts 1 argstr)
+    string(REPLACE "," ";" args "${argstr}")
+  endif()
+  run(${name} 2 ${args})
+  string(STRIP "${ERR_${name}}" e)
+  string(FIND "${e}" "\n" nl)
+  if(NOT nl EQUAL -1)
+    fail("${name}: stderr has more than one line: ${ERR_${name}}")
+  endif()
+  string(FIND "${e}" "${needle}" hit)
+  if(hit EQUAL -1)
+    fail("${name}: stderr does not mention '${needle}': ${e}")
+  endif()
+endforeach()
+file(GLOB leftovers ${WORK}/x[0-9]* ${WORK}/*.partial-*)
+if(leftovers)
+  fail("bad runs left outputs behind: ${leftovers}")
+endif()
+
+if(failures GREATER 0)
+  message(FATAL_ERROR "${failures} CLI check(s) failed")
+endif()
+message(STATUS "all CLI checks passed")
