@@ -1,0 +1,21 @@
+# CUDA backend tests.
+#  - test_cuda_tiling (tests/cuda_tiling.test.cpp, added by the *.test.cpp glob, g++ only): the
+#    host-device arithmetic of the backend (tiles, halo slots, keys, worklist, query boxes). Built
+#    on every machine; it only needs the backend's include directory.
+#  - test_backend_cuda (tests/backend/cuda.cu, nvcc): the shared backend suite. Without a device it
+#    exits 77 and CTest reports it skipped.
+if(TARGET test_cuda_tiling)
+  target_include_directories(test_cuda_tiling PRIVATE ${PROJECT_SOURCE_DIR}/backends/cuda/include)
+endif()
+if(GEOVORONOI_HAVE_CUDA)
+  add_executable(test_backend_cuda ${CMAKE_CURRENT_LIST_DIR}/cuda.cu)
+  target_include_directories(test_backend_cuda PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
+  target_link_libraries(test_backend_cuda PRIVATE doctest::doctest geovoronoi::cuda geovoronoi_dev_options)
+  set_target_properties(test_backend_cuda PROPERTIES CUDA_ARCHITECTURES "${GEOVORONOI_CUDA_ARCHITECTURES}")
+  # the host compiler's warnings, as errors when asked; nvcc's own diagnostics as errors too
+  target_compile_options(test_backend_cuda PRIVATE
+    $<$<COMPILE_LANGUAGE:CUDA>:-Xcompiler=-Wall,-Wextra,-Wshadow>
+    $<$<AND:$<COMPILE_LANGUAGE:CUDA>,$<BOOL:${GEOVORONOI_WERROR}>>:-Werror=all-warnings>)
+  add_test(NAME test_backend_cuda COMMAND test_backend_cuda)
+  set_tests_properties(test_backend_cuda PROPERTIES SKIP_RETURN_CODE 77 LABELS cuda)
+endif()
