@@ -13,8 +13,11 @@ if(GEOVORONOI_HAVE_CUDA)
   target_link_libraries(test_backend_cuda PRIVATE doctest::doctest geovoronoi::cuda geovoronoi_dev_options)
   set_target_properties(test_backend_cuda PROPERTIES CUDA_ARCHITECTURES "${GEOVORONOI_CUDA_ARCHITECTURES}")
   # the host compiler's warnings, as errors when asked; nvcc's own diagnostics as errors too
+  # 20011, 20014: the oracle's destination_cost metric is host-only, and the core's host-device
+  # problem::inside() instantiates with it; that call only ever runs on the host (kernels use
+  # the device_metric specialisation in cuda.cu), so the diagnostic is silenced for this TU only.
   target_compile_options(test_backend_cuda PRIVATE
-    $<$<COMPILE_LANGUAGE:CUDA>:-Xcompiler=-Wall,-Wextra,-Wshadow>
+    $<$<COMPILE_LANGUAGE:CUDA>:-Xcompiler=-Wall,-Wextra,-Wshadow;--diag-suppress=20011,20014>
     $<$<AND:$<COMPILE_LANGUAGE:CUDA>,$<BOOL:${GEOVORONOI_WERROR}>>:-Werror=all-warnings>)
   add_test(NAME test_backend_cuda COMMAND test_backend_cuda)
   set_tests_properties(test_backend_cuda PROPERTIES SKIP_RETURN_CODE 77 LABELS cuda)
