@@ -1,0 +1,14 @@
+/// @file bench/voronoi/seq.cpp
+/// @brief The sequential backend (geovoronoi::seq) over the full voronoi case matrix:
+///        n = 64, 128, 256; 10, 100, 1000 seeds; 6- and 26-connectivity; constant, gradient, steak.
+
+#include "common.hpp"
+
+GEOVORONOI_BENCH_REGISTER(register_seq_cases) {
+  geovoronoi::bench::register_voronoi_cases("seq", geovoronoi::seq, {64, 128, 256}, {10, 100, 1000}, {6, 26},
+                                            geovoronoi::bench::field_names());
+}
+
+#ifndef GEOVORONOI_BENCH_COMBINED
+GEOVORONOI_BENCH_MAIN()
+#endif
