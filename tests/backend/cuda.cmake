@@ -4,9 +4,13 @@
 #    on every machine; it only needs the backend's include directory.
 #  - test_backend_cuda (tests/backend/cuda.cu, nvcc): the shared backend suite. Without a device it
 #    exits 77 and CTest reports it skipped.
-if(TARGET test_cuda_tiling)
-  target_include_directories(test_cuda_tiling PRIVATE ${PROJECT_SOURCE_DIR}/backends/cuda/include)
-endif()
+#  - test_cuda_tile_model (tests/cuda_tile_model.test.cpp, g++): the algorithm run on the host from
+#    the kernels' own per-voxel steps, against seq.
+foreach(t test_cuda_tiling test_cuda_tile_model)
+  if(TARGET ${t})
+    target_include_directories(${t} PRIVATE ${PROJECT_SOURCE_DIR}/backends/cuda/include)
+  endif()
+endforeach()
 if(GEOVORONOI_HAVE_CUDA)
   add_executable(test_backend_cuda ${CMAKE_CURRENT_LIST_DIR}/cuda.cu)
   target_include_directories(test_backend_cuda PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})

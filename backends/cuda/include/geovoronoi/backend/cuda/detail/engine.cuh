@@ -16,6 +16,7 @@
 // for double solves and for insert queries. Smaller is always better, all ones is "not reached".
 
 #include <geovoronoi/backend/cuda/detail/error.cuh>
+#include <geovoronoi/backend/cuda/detail/tile_ops.hpp>
 #include <geovoronoi/backend/cuda/detail/tiling.hpp>
 #include <geovoronoi/error.hpp>
 #include <geovoronoi/metric.hpp>
@@ -27,72 +28,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace geovoronoi::cuda {
-
-/**
- * @brief Customisation point: the metric object kernels evaluate for a problem's metric type.
- *
- * The default is the metric itself, which must then have a host-device call operator (the core's
- * metrics do). Specialise it to map a host-only metric to an equivalent device-capable one.
- */
-template <class Metric>
-struct device_metric {
-  using type = Metric;
-  static GEOVORONOI_HOST_DEVICE const Metric& convert(const Metric& m) noexcept { return m; }
-};
-
-namespace detail {
-
-template <class P>
-using dmetric_t = typename device_metric<typename P::metric_type>::type;
-
-/// Round-to-nearest addition that the compiler may not fuse or reorder.
-__device__ __forceinline__ float add_rn(float a, float b) { return __fadd_rn(a, b); }
-__device__ __forceinline__ double add_rn(double a, double b) { return __dadd_rn(a, b); }
-
-/// Edge weight from a voxel with field @p from to one with field @p to through neighbour k.
-template <class P>
-__device__ __forceinline__ typename P::value_type edge_weight(const P& p, int k, typename P::value_type from,
-                                                              typename P::value_type to) {
-  const auto& m = device_metric<typename P::metric_type>::convert(p.metric);
-  return m(p.edges.length[k], from, to);
-}
-
-template <class P>
-__device__ __forceinline__ bool in_domain(typename P::value_type f) {
-  return geovoronoi::detail::inside<dmetric_t<P>>(f);
-}
-
-// ---- rules ---------------------------------------------------------------------------------------
-
-/// float Voronoi: packed (distance, label) keys; accepts distances below the radius.
-struct rule_voronoi {
-  float radius;
-  __device__ uint64_t candidate(uint64_t from, float w, index_t) const {
-    const float nd = add_rn(key_distance(from), w);
-    return nd < radius ? pack(nd, key_label(from)) : unreached;
-  }
-};
-
-/// Distances only (double solves; labels follow in a separate pass).
-template <class T>
-struct rule_distance {
-  T radius;
-  __device__ uint64_t candidate(uint64_t from, T w, index_t) const {
-    const T nd = add_rn(word_distance<T>(from), w);
-    return nd < radius ? distance_word(nd) : unreached;
-  }
-};
-
-/// Insert query: distances from the query, accepted only where strictly below the diagram's.
-template <class T>
-struct rule_insert {
-  const T* old;
-  __device__ uint64_t candidate(uint64_t from, T w, index_t v) const {
-    const T nd = add_rn(word_distance<T>(from), w);
-    return nd < old[v] ? distance_word(nd) : unreached;
-  }
-};
+namespace geovoronoi::cuda::detail {
 
 /// The device worklist: two alternating tile lists, their counters, one queued flag per tile.
 struct worklist_view {
@@ -111,11 +47,6 @@ __device__ __forceinline__ void enqueue(const worklist_view& wl, int which, std:
   }
 }
 
-/// A source of the engine: voxel and initial state word.
-struct seed_word {
-  index_t voxel;
-  uint64_t word;
-};
 
 template <class = void>
 GEOVORONOI_KERNEL void seed_kernel(tiling t, unsigned long long* words, const seed_word* seeds, int count, worklist_view wl) {
@@ -142,7 +73,6 @@ relax_kernel(P p, Rule rule, tiling t, unsigned long long* words, worklist_view 
   using T = typename P::value_type;
   using S = tile_shape<P::dim>;
   constexpr int Dim = P::dim;
-  constexpr int N = P::neighbours;
   __shared__ unsigned long long sw[S::halo_voxels];
   __shared__ T sf[S::halo_voxels];
 
@@ -154,49 +84,19 @@ relax_kernel(P p, Rule rule, tiling t, unsigned long long* words, worklist_view 
 
   for (std::uint32_t item = blockIdx.x; item < active; item += gridDim.x) {
     const std::uint32_t tile = wl.tiles(cur)[item];
-    index_t ta, tb, tc;
-    t.tile_coords(tile, ta, tb, tc);
-    const index_t x0 = ta * S::tx, y0 = tb * S::ty, z0 = tc * S::tz;
-
-    for (int s = int(threadIdx.x); s < S::halo_voxels; s += int(blockDim.x)) {
-      int lx, ly, lz;
-      halo_coords<Dim>(s, lx, ly, lz);
-      const index_t gx = x0 + lx, gy = y0 + ly, gz = z0 + lz;
-      if (t.in_grid(gx, gy, gz)) {
-        const index_t v = t.voxel(gx, gy, gz);
-        const T f = p.field[v];
-        sf[s] = f;
-        sw[s] = in_domain<P>(f) ? __ldcg(&words[v]) : unreached;
-      } else {
-        sf[s] = T(0);
-        sw[s] = unreached;
-      }
-    }
+    const tile_origin o = origin_of(t, tile);
+    for (int s = int(threadIdx.x); s < S::halo_voxels; s += int(blockDim.x))
+      load_slot(p, t, o, s, sw, sf, [words](index_t v) { return __ldcg(&words[v]); });
     __syncthreads();
 
-    const index_t gx = x0 + me_x, gy = y0 + me_y, gz = z0 + me_z;
+    const index_t gx = o.x + me_x, gy = o.y + me_y, gz = o.z + me_z;
     const bool mine = t.in_grid(gx, gy, gz) && in_domain<P>(sf[me]);
     const index_t v = mine ? t.voxel(gx, gy, gz) : 0;
     const unsigned long long loaded = sw[me];
+    bool bad = false;
     for (;;) {
-      unsigned long long best = sw[me];
-      if (mine) {
-        const T fv = sf[me];
-#pragma unroll
-        for (int k = 0; k < N; ++k) {
-          const int s = halo_slot<Dim>(me_x + p.edges.offset[k][0], me_y + p.edges.offset[k][1],
-                                       me_z + p.edges.offset[k][2]);
-          const unsigned long long su = sw[s];
-          if (su == unreached) continue;
-          const T w = edge_weight(p, k, sf[s], fv);
-          if (!(w >= T(0))) {
-            *wl.error = 1;
-            continue;
-          }
-          const unsigned long long c = rule.candidate(su, w, v);
-          if (c < best) best = c;
-        }
-      }
+      // Jacobi step: every thread reads, then every thread writes its own voxel
+      const unsigned long long best = mine ? pull(p, rule, sw, sf, me_x, me_y, me_z, v, bad) : sw[me];
       __syncthreads();
       const bool changed = best < sw[me];
       if (changed) sw[me] = best;
@@ -209,32 +109,16 @@ relax_kernel(P p, Rule rule, tiling t, unsigned long long* words, worklist_view 
       int lx, ly, lz;
       halo_coords<Dim>(s, lx, ly, lz);
       if (!is_halo<Dim>(lx, ly, lz)) continue;
-      const index_t hx = x0 + lx, hy = y0 + ly, hz = z0 + lz;
-      if (!t.in_grid(hx, hy, hz)) continue;
-      const T fh = sf[s];
-      if (!in_domain<P>(fh)) continue;
+      const index_t hx = o.x + lx, hy = o.y + ly, hz = o.z + lz;
+      if (!t.in_grid(hx, hy, hz) || !in_domain<P>(sf[s])) continue;
       const index_t h = t.voxel(hx, hy, hz);
-      unsigned long long best = sw[s];
-#pragma unroll
-      for (int k = 0; k < N; ++k) {
-        const int ux = lx + p.edges.offset[k][0], uy = ly + p.edges.offset[k][1], uz = lz + p.edges.offset[k][2];
-        if (is_halo<Dim>(ux, uy, uz)) continue;
-        const int su_slot = halo_slot<Dim>(ux, uy, uz);
-        const unsigned long long su = sw[su_slot];
-        if (su == unreached) continue;
-        const T w = edge_weight(p, k, sf[su_slot], fh);
-        if (!(w >= T(0))) {
-          *wl.error = 1;
-          continue;
-        }
-        const unsigned long long c = rule.candidate(su, w, h);
-        if (c < best) best = c;
-      }
-      if (best < sw[s]) {
-        const unsigned long long before = atomicMin(&words[h], best);
-        if (best < before) enqueue(wl, 1 - cur, std::uint32_t(t.tile_of(hx, hy, hz)));
+      const unsigned long long c = push_candidate(p, rule, sw, sf, lx, ly, lz, h, bad);
+      if (c != unreached) {
+        const unsigned long long before = atomicMin(&words[h], c);
+        if (c < before) enqueue(wl, 1 - cur, std::uint32_t(t.tile_of(hx, hy, hz)));
       }
     }
+    if (bad) *wl.error = 1;
     __syncthreads();  // the next tile reuses the shared arrays
   }
 }
@@ -325,5 +209,4 @@ long long run_engine(const P& dp, const Rule& rule, const tiling& t, unsigned lo
   return it + 1;
 }
 
-}  // namespace detail
-}  // namespace geovoronoi::cuda
+}  // namespace geovoronoi::cuda::detail

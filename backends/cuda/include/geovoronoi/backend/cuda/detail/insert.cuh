@@ -26,53 +26,30 @@ GEOVORONOI_KERNEL void __launch_bounds__(query_threads)
 insert_box_kernel(P p, tiling t, const typename P::value_type* old, const index_t* queries, query_out<typename P::value_type> out) {
   using T = typename P::value_type;
   using B = query_box_shape<P::dim>;
-  constexpr int N = P::neighbours;
   constexpr int per_thread = B::voxels / query_threads;
   static_assert(B::voxels % query_threads == 0, "query box must split evenly over the block");
   __shared__ unsigned long long sw[B::voxels];
   __shared__ std::uint32_t scan[query_threads];
 
   const index_t q = queries[blockIdx.x];
-  const index_t qx = q % t.nx, qr = q / t.nx, qy = qr % t.ny, qz = qr / t.ny;
-  const box_axis ax = place_box(qx, t.nx, B::bx), ay = place_box(qy, t.ny, B::by), az = place_box(qz, t.nz, B::bz);
-  const int lx = int(ax.len), ly = int(ay.len), lz = int(az.len);
-  const int used = lx * ly * lz;
+  const query_box box = box_around<P::dim>(t, q);
+  const int used = box.used();
   const int first = int(threadIdx.x) * per_thread;  // each thread owns a contiguous run of box slots
 
   for (int j = 0; j < per_thread; ++j) {
     const int s = first + j;
     sw[s] = unreached;
-    if (s >= used) continue;
-    const int bx = s % lx, by = (s / lx) % ly, bz = s / (lx * ly);
-    const index_t v = t.voxel(ax.lo + bx, ay.lo + by, az.lo + bz);
-    if (v == q && T(0) < old[q]) sw[s] = distance_word(T(0));
+    if (s < used && box.voxel(t, s) == q && T(0) < old[q]) sw[s] = distance_word(T(0));
   }
   __syncthreads();
 
   for (;;) {
+    // Jacobi step over the box: read everything, barrier, write own slots
     unsigned long long next[per_thread];
 #pragma unroll
     for (int j = 0; j < per_thread; ++j) {
       const int s = first + j;
-      next[j] = s < used ? sw[s] : unreached;
-      if (s >= used) continue;
-      const int bx = s % lx, by = (s / lx) % ly, bz = s / (lx * ly);
-      const index_t v = t.voxel(ax.lo + bx, ay.lo + by, az.lo + bz);
-      const T fv = p.field[v];
-      if (!in_domain<P>(fv)) continue;
-      const T dold = old[v];
-      for (int k = 0; k < N; ++k) {
-        const int ux = bx + p.edges.offset[k][0], uy = by + p.edges.offset[k][1], uz = bz + p.edges.offset[k][2];
-        if (ux < 0 || ux >= lx || uy < 0 || uy >= ly || uz < 0 || uz >= lz) continue;
-        const unsigned long long su = sw[ux + lx * (uy + ly * uz)];
-        if (su == unreached) continue;
-        const T w = edge_weight(p, k, p.field[v + p.edges.delta[k]], fv);
-        if (!(w >= T(0))) continue;  // reported by the diagram's own solve; never accepted here
-        const T nd = add_rn(word_distance<T>(su), w);
-        if (!(nd < dold)) continue;
-        const unsigned long long c = distance_word(nd);
-        if (c < next[j]) next[j] = c;
-      }
+      next[j] = s < used ? box_pull(p, t, box, sw, old, s, sw[s]) : unreached;
     }
     __syncthreads();
     bool changed = false;
@@ -92,8 +69,7 @@ insert_box_kernel(P p, tiling t, const typename P::value_type* old, const index_
     const int s = first + j;
     if (s >= used || sw[s] == unreached) continue;
     ++mine;
-    const int bx = s % lx, by = (s / lx) % ly, bz = s / (lx * ly);
-    open = open || open_face(ax, bx, t.nx) || open_face(ay, by, t.ny) || open_face(az, bz, t.nz);
+    open = open || box.open(t, s);
   }
   const int overflow = __syncthreads_or(open);
   scan[threadIdx.x] = mine;
@@ -114,8 +90,7 @@ insert_box_kernel(P p, tiling t, const typename P::value_type* old, const index_
   for (int j = 0; j < per_thread; ++j) {
     const int s = first + j;
     if (s >= used || sw[s] == unreached) continue;
-    const int bx = s % lx, by = (s / lx) % ly, bz = s / (lx * ly);
-    out.voxel[at] = t.voxel(ax.lo + bx, ay.lo + by, az.lo + bz);
+    out.voxel[at] = box.voxel(t, s);
     out.distance[at] = word_distance<T>(sw[s]);
     ++at;
   }

@@ -12,11 +12,6 @@ namespace geovoronoi::cuda::detail {
 
 inline constexpr std::uint32_t no_label_word = ~std::uint32_t(0);
 
-struct label_seed {
-  index_t voxel;
-  uint64_t word;  // the source's initial distance bits
-  std::uint32_t label;
-};
 
 template <class = void>
 GEOVORONOI_KERNEL void label_seed_kernel(const unsigned long long* words, unsigned int* labels,
@@ -30,28 +25,13 @@ GEOVORONOI_KERNEL void label_seed_kernel(const unsigned long long* words, unsign
 template <class P>
 GEOVORONOI_KERNEL void label_sweep_kernel(P p, tiling t, const unsigned long long* words, unsigned int* labels,
                                           int* changed) {
-  using T = typename P::value_type;
-  constexpr int N = P::neighbours;
   const index_t n = t.voxels();
   for (index_t v = index_t(blockIdx.x) * blockDim.x + threadIdx.x; v < n; v += index_t(gridDim.x) * blockDim.x) {
     const unsigned long long dv = words[v];
     if (dv == unreached) continue;
-    const index_t x = v % t.nx, r = v / t.nx, y = r % t.ny, z = r / t.ny;
-    const T fv = p.field[v];
-    unsigned int best = __ldcg(&labels[v]);
-    const unsigned int before = best;
-#pragma unroll
-    for (int k = 0; k < N; ++k) {
-      const index_t ux = x + p.edges.offset[k][0], uy = y + p.edges.offset[k][1], uz = z + p.edges.offset[k][2];
-      if (!t.in_grid(ux, uy, uz)) continue;
-      const index_t u = v + p.edges.delta[k];
-      const unsigned long long du = words[u];
-      if (du == unreached) continue;
-      const T w = edge_weight(p, k, p.field[u], fv);
-      if (distance_word(add_rn(word_distance<T>(du), w)) != dv) continue;
-      const unsigned int lu = __ldcg(&labels[u]);
-      if (lu < best) best = lu;
-    }
+    const unsigned int before = __ldcg(&labels[v]);
+    const unsigned int best =
+        realising_label(p, t, words, v, dv, before, [labels](index_t u) { return __ldcg(&labels[u]); });
     if (best < before) {
       atomicMin(&labels[v], best);
       *changed = 1;

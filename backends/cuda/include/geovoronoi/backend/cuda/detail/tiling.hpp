@@ -144,6 +144,19 @@ GEOVORONOI_HOST_DEVICE inline T word_distance(uint64_t w) noexcept {
     return bits_double(w);
 }
 
+/// A source of the engine: voxel and initial state word.
+struct seed_word {
+  index_t voxel;
+  uint64_t word;
+};
+
+/// A source of the double label pass: voxel, initial distance bits, label.
+struct label_seed {
+  index_t voxel;
+  uint64_t word;
+  std::uint32_t label;
+};
+
 // ---- worklist ------------------------------------------------------------------------------------
 
 /// Two tile lists alternate: iteration i consumes list i % 2 and fills list (i + 1) % 2.
