@@ -26,3 +26,24 @@ if(GEOVORONOI_HAVE_CUDA)
   add_test(NAME test_backend_cuda COMMAND test_backend_cuda)
   set_tests_properties(test_backend_cuda PROPERTIES SKIP_RETURN_CODE 77 LABELS cuda)
 endif()
+
+# Every public header compiles on its own: cuda.cuh with nvcc, the compiler-neutral detail headers
+# with the C++ compiler (they are what the host tests include).
+set(_gv_cuda_tus)
+foreach(h geovoronoi/backend/cuda/detail/tiling.hpp geovoronoi/backend/cuda/detail/tile_ops.hpp)
+  string(MAKE_C_IDENTIFIER ${h} id)
+  file(CONFIGURE OUTPUT ${CMAKE_CURRENT_BINARY_DIR}/headers/${id}.cpp CONTENT "#include <${h}>\n#include <${h}>\n")
+  list(APPEND _gv_cuda_tus ${CMAKE_CURRENT_BINARY_DIR}/headers/${id}.cpp)
+endforeach()
+add_library(geovoronoi_cuda_host_header_check OBJECT ${_gv_cuda_tus})
+target_include_directories(geovoronoi_cuda_host_header_check PRIVATE ${PROJECT_SOURCE_DIR}/backends/cuda/include)
+target_link_libraries(geovoronoi_cuda_host_header_check PRIVATE geovoronoi::geovoronoi geovoronoi_dev_options)
+if(GEOVORONOI_HAVE_CUDA)
+  file(CONFIGURE OUTPUT ${CMAKE_CURRENT_BINARY_DIR}/headers/geovoronoi_backend_cuda_cuh.cu
+       CONTENT "#include <geovoronoi/backend/cuda.cuh>\n#include <geovoronoi/backend/cuda.cuh>\n")
+  add_library(geovoronoi_cuda_header_check OBJECT ${CMAKE_CURRENT_BINARY_DIR}/headers/geovoronoi_backend_cuda_cuh.cu)
+  target_link_libraries(geovoronoi_cuda_header_check PRIVATE geovoronoi::cuda)
+  target_compile_options(geovoronoi_cuda_header_check PRIVATE
+    $<$<COMPILE_LANGUAGE:CUDA>:-Xcompiler=-Wall,-Wextra,-Wshadow>
+    $<$<AND:$<COMPILE_LANGUAGE:CUDA>,$<BOOL:${GEOVORONOI_WERROR}>>:-Werror=all-warnings>)
+endif()
