@@ -100,10 +100,11 @@ std::vector<coord<Dim>> spread_seeds(const image<float, Dim>& field, int count) 
   std::vector<double> best(cand.size(), 1e300);
   index_t next = first;
   for (int s = 0; s < count && s < int(cand.size()); ++s) {
-    out.push_back(g.coords(next));
+    const index_t chosen = next;
+    out.push_back(g.coords(chosen));
     double far = -1;
     for (std::size_t i = 0; i < cand.size(); ++i) {
-      best[i] = std::min(best[i], dist2(cand[i], next));
+      best[i] = std::min(best[i], dist2(cand[i], chosen));
       if (best[i] > far) far = best[i], next = cand[i];
     }
     if (far <= 0) break;

@@ -10,6 +10,8 @@
 #include <geovoronoi/image.hpp>
 #include <geovoronoi/metric.hpp>
 
+#include <cmath>
+#include <limits>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -78,6 +80,25 @@ template <class T, class A, int Dim>
 field_ref<T> as_field(const std::vector<T, A>& f, const grid<Dim>&) {
   return {f.data(), f.size()};
 }
+
+/// Every edge length of connectivity<N> on @p g must be finite and non-zero once rounded to T:
+/// a spacing that is valid in double can still underflow to 0 or overflow to +inf in float, which
+/// would make all distances 0 or every voxel unreachable. Checked in double, before the cast.
+template <class T, int Dim, int N>
+void check_edge_lengths(const grid<Dim>& g) {
+  constexpr auto offs = connectivity<N>::offsets();
+  for (int n = 0; n < N; ++n) {
+    double len2 = 0;
+    for (int a = 0; a < Dim; ++a) {
+      const double c = offs[n][a] * g.spacing(a);
+      len2 += c * c;
+    }
+    const double len = std::sqrt(len2);
+    if (!(len <= double(std::numeric_limits<T>::max())) || !(static_cast<T>(len) > T(0)))
+      throw std::invalid_argument("geovoronoi: the grid's spacing gives an edge of length " + std::to_string(len) +
+                                  ", which is 0 or infinite in the distance type; rescale the spacing");
+  }
+}
 }  // namespace detail
 
 /**
@@ -104,6 +125,7 @@ auto make_problem(const grid<Dim>& g, const Field& field, Metric metric = {}, co
     throw std::invalid_argument("geovoronoi: the field has " + std::to_string(f.size) + " values but the grid has " +
                                 std::to_string(g.size()) + " voxels");
   if (g.size() == 0) throw std::invalid_argument("geovoronoi: the grid is empty");
+  detail::check_edge_lengths<T, Dim, N>(g);
   problem<T, Dim, Metric, N> p;
   p.geometry = g;
   p.field = f.data;

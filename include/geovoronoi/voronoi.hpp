@@ -10,6 +10,7 @@
 #include <geovoronoi/problem.hpp>
 #include <geovoronoi/result.hpp>
 
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -17,6 +18,12 @@
 namespace geovoronoi {
 
 namespace detail {
+/// Makes a parameter a non-deduced context (std::type_identity before C++20).
+template <class T>
+struct same_type {
+  using type = T;
+};
+
 template <class P, class Seeds>
 std::vector<source<typename P::value_type>> seeds_to_sources(const P& p, const Seeds& seeds) {
   std::vector<source<typename P::value_type>> s;
@@ -27,6 +34,21 @@ std::vector<source<typename P::value_type>> seeds_to_sources(const P& p, const S
     ++i;
   }
   return s;
+}
+
+/// Sources with an initial distance of -0 replaced by +0. -0 passes the ">= 0" check, but its sign
+/// bit would make its packed (distance, label) key larger than every positive distance's.
+template <class T>
+std::vector<source<T>> without_negative_zero(std::vector<source<T>> s) {
+  for (auto& x : s)
+    if (x.distance == T(0)) x.distance = T(0);
+  return s;
+}
+template <class T>
+bool has_negative_zero(const std::vector<source<T>>& s) {
+  for (const auto& x : s)
+    if (x.distance == T(0) && std::signbit(x.distance)) return true;
+  return false;
 }
 
 template <class Policy, class P>
@@ -88,6 +110,8 @@ diagram<typename P::value_type, P::dim> geodesic_solve(const Policy& policy, con
                                                        const std::vector<source<typename P::value_type>>& sources,
                                                        const solve_options& opt = {}) {
   detail::validate_sources(p, sources, "source");
+  if (detail::has_negative_zero(sources))
+    return detail::solve_checked(policy, p, detail::without_negative_zero(sources), opt);
   return detail::solve_checked(policy, p, sources, opt);
 }
 
@@ -101,6 +125,7 @@ sparse_solution<typename P::value_type> bounded_solve(const Policy& policy, cons
                                                       typename P::value_type radius) {
   detail::validate_sources(p, sources, "source");
   if (radius != radius) throw std::invalid_argument("geovoronoi: bounded_solve radius is NaN");
+  if (detail::has_negative_zero(sources)) return backend_bounded(policy, p, detail::without_negative_zero(sources), radius);
   return backend_bounded(policy, p, sources, radius);
 }
 
@@ -161,7 +186,10 @@ query_cell<typename P::value_type> insert_query(const Policy& policy, const P& p
 /// @brief Voxel coordinates of world points, each rounded to the nearest voxel centre (unchecked:
 ///        the solvers reject those outside the grid).
 template <int Dim>
-std::vector<coord<Dim>> seeds_from_world(const grid<Dim>& g, const std::vector<point<Dim>>& points) {
+std::vector<coord<Dim>> seeds_from_world(const grid<Dim>& g,
+                                         const typename detail::same_type<std::vector<point<Dim>>>::type& points) {
+  // Dim is deduced from the grid only: deducing it from std::array<double, Dim> would fail, since
+  // std::array's size parameter is a std::size_t and Dim an int.
   std::vector<coord<Dim>> out;
   out.reserve(points.size());
   for (const auto& x : points) out.push_back(g.nearest_voxel(x));

@@ -6,6 +6,7 @@
 /// (geovoronoi/voronoi.hpp). It is the reference every other backend is tested against, and it is
 /// itself tested against a brute-force Bellman-Ford oracle.
 
+#include <geovoronoi/detail/big_array.hpp>
 #include <geovoronoi/detail/parents.hpp>
 #include <geovoronoi/detail/seq/dijkstra.hpp>
 #include <geovoronoi/result.hpp>
@@ -34,14 +35,18 @@ diagram<T_of<P>, P::dim> backend_solve(par_t, const P& p, const std::vector<sour
   using kt = detail::key_traits<T>;
   const index_t n = p.geometry.size();
   const T radius = static_cast<T>(opt.max_distance);
-  std::vector<typename kt::key_type> keys(static_cast<std::size_t>(n), kt::unreached);
-  impl::dense_keys<T> st{keys.data()};
+  detail::big_array<impl::node<T>> work(static_cast<std::size_t>(n));
+  for (index_t v = 0; v < n; ++v) {
+    work[v].set_key(kt::unreached);
+    work[v].field = p.field[v];
+  }
+  impl::dense_keys<T> st{work.data()};
   detail::radix_heap<T> heap;
   for (const auto& s : sources)
     if (s.distance < radius) {
       const auto k = kt::make(s.distance, s.label);
-      if (k < keys[s.voxel]) {
-        keys[s.voxel] = k;
+      if (k < st.get(s.voxel)) {
+        st.set(s.voxel, k);
         heap.push(k, s.voxel);
       }
     }
@@ -49,11 +54,13 @@ diagram<T_of<P>, P::dim> backend_solve(par_t, const P& p, const std::vector<sour
   diagram<T, P::dim> d;
   d.distance = image<T, P::dim>(p.geometry, std::numeric_limits<T>::infinity());
   d.label = image<label_t, P::dim>(p.geometry, no_label);
-  for (index_t v = 0; v < n; ++v)
-    if (keys[v] != kt::unreached) {
-      d.distance[v] = kt::distance(keys[v]);
-      d.label[v] = kt::label(keys[v]);
+  for (index_t v = 0; v < n; ++v) {
+    const auto k = st.get(v);
+    if (k != kt::unreached) {
+      d.distance[v] = kt::distance(k);
+      d.label[v] = kt::label(k);
     }
+  }
   return d;
 }
 
@@ -64,6 +71,7 @@ sparse_solution<T_of<P>> backend_bounded(par_t, const P& p, const std::vector<so
   using T = T_of<P>;
   using kt = detail::key_traits<T>;
   impl::sparse_keys<T> st;
+  st.f = p.field;
   detail::radix_heap<T> heap;
   for (const auto& s : sources)
     if (s.distance < radius) {
@@ -100,6 +108,7 @@ query_cells<T_of<P>> backend_insert_queries(par_t, const P& p, const diagram<T_o
   out.query = queries;
   out.offsets.reserve(queries.size() + 1);
   impl::sparse_keys<T> st;
+  st.f = p.field;
   detail::radix_heap<T> heap;
   const T* dist = d.distance.data();
   std::vector<std::pair<index_t, typename kt::key_type>> cell;

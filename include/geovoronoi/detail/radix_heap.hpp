@@ -48,6 +48,9 @@ class radix_heap {
     return x;
   }
 
+  /// The item pop() would return next if it is already known without a refill, else nullptr.
+  const item* peek_ready() const noexcept { return buckets_[0].empty() ? nullptr : &buckets_[0].back(); }
+
   void clear() {
     for (auto& b : buckets_) b.clear();
     for (auto& m : mask_) m = 0;

@@ -71,7 +71,8 @@ void validate_sources(const P& p, const std::vector<source<typename P::value_typ
 
 template <class P, class D>
 void check_diagram(const P& p, const D& d) {
-  if (d.geometry() != p.geometry || d.distance.size() != p.geometry.size() || d.label.size() != p.geometry.size())
+  if (d.geometry() != p.geometry || d.distance.size() != p.geometry.size() || d.label.geometry() != p.geometry ||
+      d.label.size() != p.geometry.size())
     throw std::invalid_argument("geovoronoi: the diagram was computed on another grid than the problem's");
 }
 

@@ -12,24 +12,53 @@
 #include <geovoronoi/metric.hpp>
 
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace geovoronoi::detail::seq_engine {
 
-/// Keys in a dense per-voxel array.
+/// One voxel of the dense solver's working array: its key and its field value side by side, so a
+/// relaxation touches one cache line per neighbour instead of two.
+template <class T>
+struct node {
+  typename key_traits<T>::key_type key;
+  T field;
+  typename key_traits<T>::key_type get_key() const noexcept { return key; }
+  void set_key(typename key_traits<T>::key_type k) noexcept { key = k; }
+};
+/// For float the key is stored as two 32-bit halves: 12 bytes a voxel instead of 16.
+template <>
+struct node<float> {
+  std::uint32_t hi, lo;
+  float field;
+  std::uint64_t get_key() const noexcept { return (std::uint64_t(hi) << 32) | lo; }
+  void set_key(std::uint64_t k) noexcept { hi = std::uint32_t(k >> 32), lo = std::uint32_t(k); }
+};
+
+/// Keys and field values in a dense per-voxel array.
 template <class T>
 struct dense_keys {
   using kt = key_traits<T>;
-  typename kt::key_type* k;
-  typename kt::key_type get(index_t v) const noexcept { return k[v]; }
-  void set(index_t v, typename kt::key_type key) noexcept { k[v] = key; }
+  node<T>* n;
+  typename kt::key_type get(index_t v) const noexcept { return n[v].get_key(); }
+  void set(index_t v, typename kt::key_type key) noexcept { n[v].set_key(key); }
+  T field(index_t v) const noexcept { return n[v].field; }
+  template <class Stencil>
+  void prefetch(index_t v, const Stencil& s) const noexcept {
+    for (int k = 0; k < Stencil::size; ++k) __builtin_prefetch(n + v + s.delta[k], 1, 1);
+  }
 };
 
-/// Keys in a hash map holding only the voxels visited.
+/// Keys in a hash map holding only the voxels visited; field values read from the problem.
 template <class T>
 struct sparse_keys {
   using kt = key_traits<T>;
   flat_map<typename kt::key_type> map;
+  const T* f = nullptr;
+  T field(index_t v) const noexcept { return f[v]; }
+  template <class Stencil>
+  void prefetch(index_t, const Stencil&) const noexcept {}
   typename kt::key_type get(index_t v) noexcept {
     const auto* x = map.find(v);
     return x ? *x : kt::unreached;
@@ -37,18 +66,24 @@ struct sparse_keys {
   void set(index_t v, typename kt::key_type key) { map.get_or_insert(v, key) = key; }
 };
 
+template <class H, class = void>
+struct has_peek : std::false_type {};
+template <class H>
+struct has_peek<H, std::void_t<decltype(std::declval<const H&>().peek_ready())>> : std::true_type {};
+
 [[noreturn]] inline void bad_weight(double w) {
   throw metric_error("geovoronoi: the metric returned the edge weight " + std::to_string(w) +
                      "; weights must be >= 0 and not NaN");
 }
 
 /**
- * Runs Dijkstra from the keys already in the heap until it is empty.
+ * Runs Dijkstra from the keys already in the heap until it is empty. Heap is a monotone priority
+ * queue of (key, voxel) items (radix_heap; the benchmarks also plug in binary heaps to compare).
  * accept(u, nd) filters relaxations (radius bounds, insert-query pruning): a rejected candidate is
  * neither stored nor queued. Returns the number of voxels settled.
  */
-template <class P, class State, class Accept>
-std::size_t run(const P& p, State& st, radix_heap<typename P::value_type>& heap, Accept&& accept) {
+template <class P, class State, class Heap, class Accept>
+std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept) {
   using T = typename P::value_type;
   using kt = key_traits<T>;
   const stencil_walker<P> walk(p);
@@ -58,18 +93,24 @@ std::size_t run(const P& p, State& st, radix_heap<typename P::value_type>& heap,
     if (it.key != st.get(it.voxel)) continue;  // stale entry: a smaller key was queued later
     ++settled;
     const index_t v = it.voxel;
+    if constexpr (has_peek<Heap>::value)
+      if (const auto* nx = heap.peek_ready()) st.prefetch(nx->voxel, p.edges);
     const T dv = kt::distance(it.key);
     const label_t l = kt::label(it.key);
-    const T fv = p.field[v];
+    const T fv = st.field(v);
     walk.for_each_neighbour(v, [&](int k, index_t u) {
-      const T fu = p.field[u];
+      // A neighbour whose key is already <= the popped key cannot improve (weights are >= 0): skip
+      // it before paying for the metric. This covers every settled neighbour.
+      const auto ku = st.get(u);
+      if (!(it.key < ku)) return;
+      const T fu = st.field(u);
       if (!detail::inside<typename P::metric_type>(fu)) return;
       const T w = p.metric(p.edges.length[k], fv, fu);
       if (!(w >= T(0))) bad_weight(double(w));
       const T nd = dv + w;
       if (!accept(u, nd)) return;
       const auto nk = kt::make(nd, l);
-      if (nk < st.get(u)) {
+      if (nk < ku) {
         st.set(u, nk);
         heap.push(nk, u);
       }

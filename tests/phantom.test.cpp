@@ -1,0 +1,139 @@
+// Tests of geovoronoi/phantom.hpp: constant and gradient fields, the steak phantom's tissues, and
+// the deterministic seed pickers.
+
+#include <doctest/doctest.h>
+
+#include <geovoronoi/phantom.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace {
+namespace gv = geovoronoi;
+namespace ph = geovoronoi::phantom;
+
+TEST_CASE("phantom: constant") {
+  const gv::grid<3> g({5, 4, 3});
+  const auto a = ph::constant(g);
+  CHECK(a.geometry() == g);
+  CHECK(a.size() == 60);
+  CHECK(std::all_of(a.begin(), a.end(), [](float x) { return x == 1.0f; }));
+  const auto b = ph::constant(gv::grid<2>({3, 3}), 2.5f);
+  CHECK(std::all_of(b.begin(), b.end(), [](float x) { return x == 2.5f; }));
+}
+
+TEST_CASE("phantom: gradient runs from 1 to 10 along x and is constant across") {
+  const gv::grid<3> g({10, 4, 3}, {0.5, 1.0, 2.0});
+  const auto f = ph::gradient(g);
+  REQUIRE(f.geometry() == g);
+  for (gv::index_t z = 0; z < 3; ++z)
+    for (gv::index_t y = 0; y < 4; ++y) {
+      CHECK(f({0, y, z}) == 1.0f);
+      CHECK(f({9, y, z}) == 10.0f);
+      for (gv::index_t x = 0; x < 10; ++x) {
+        CHECK(f({x, y, z}) == doctest::Approx(1.0 + double(x)).epsilon(1e-6));  // step 9/9 = 1 per voxel
+        if (x > 0) CHECK(f({x, y, z}) > f({x - 1, y, z}));
+      }
+    }
+  const auto h = ph::gradient(gv::grid<2>({5, 2}), 2.0f, 4.0f);
+  CHECK(h({0, 1}) == 2.0f);
+  CHECK(h({2, 0}) == 3.0f);
+  CHECK(h({4, 1}) == 4.0f);
+  // a single column is the low value, not a division by zero
+  const auto one = ph::gradient(gv::grid<3>({1, 3, 3}));
+  CHECK(std::all_of(one.begin(), one.end(), [](float x) { return x == 1.0f; }));
+}
+
+TEST_CASE("phantom: the steak has background, meat, fat and bone in sensible proportions") {
+  const gv::grid<3> g({64, 48, 16});
+  const ph::steak_moduli m;
+  const auto f = ph::steak(g);
+  REQUIRE(f.geometry() == g);
+  double n[4] = {0, 0, 0, 0};
+  for (float x : f) {
+    if (x == 0.0f)
+      n[0]++;
+    else if (x == m.meat)
+      n[1]++;
+    else if (x == m.fat)
+      n[2]++;
+    else if (x == m.bone)
+      n[3]++;
+    else
+      FAIL_CHECK("unexpected value " << x);
+  }
+  for (double& x : n) x /= double(g.size());
+  INFO("background " << n[0] << " meat " << n[1] << " fat " << n[2] << " bone " << n[3]);
+  CHECK(n[0] > 0.2);
+  CHECK(n[0] < 0.55);   // the outline fills most of the box
+  CHECK(n[1] > 0.3);    // meat dominates the domain
+  CHECK(n[1] > n[2]);
+  CHECK(n[2] > 0.05);   // a fat rim and marbling
+  CHECK(n[2] > n[3]);
+  CHECK(n[3] > 0.01);   // the T-bone
+  CHECK(n[3] < 0.15);
+  // the box's corners are background, the centre is inside
+  CHECK(f({0, 0, 0}) == 0.0f);
+  CHECK(f({63, 47, 15}) == 0.0f);
+  CHECK(f({32, 24, 8}) > 0.0f);
+  // the moduli match SOFA's transfer function
+  CHECK(m.meat == 2.0e4f);
+  CHECK(m.fat == 5.0e3f);
+  CHECK(m.bone == 1.5e10f);
+  // custom moduli are used as given
+  const auto c = ph::steak(gv::grid<3>({32, 24, 4}), ph::steak_moduli{1.0f, 2.0f, 3.0f});
+  std::set<float> values(c.begin(), c.end());
+  CHECK(values == std::set<float>{0.0f, 1.0f, 2.0f, 3.0f});
+}
+
+template <int Dim, class Seeds>
+void check_seed_list(const gv::image<float, Dim>& f, const Seeds& s, std::size_t expected) {
+  CHECK(s.size() == expected);
+  std::set<gv::index_t> seen;
+  for (const auto& c : s) {
+    REQUIRE(f.geometry().contains(c));
+    CHECK(f(c) > 0.0f);
+    seen.insert(f.geometry().index(c));
+  }
+  CHECK(seen.size() == s.size());
+}
+
+TEST_CASE("phantom: spread_seeds returns distinct, in-domain, well spread voxels deterministically") {
+  const auto steak = ph::steak(gv::grid<3>({48, 36, 12}));
+  for (int count : {1, 10, 100}) {
+    const auto s = ph::spread_seeds(steak, count);
+    check_seed_list(steak, s, std::size_t(count));
+    CHECK(ph::spread_seeds(steak, count) == s);
+  }
+  // farthest-point sampling: the first seeds are far apart
+  const auto square = ph::constant(gv::grid<2>({21, 21}));
+  const auto s4 = ph::spread_seeds(square, 4);
+  check_seed_list(square, s4, 4);
+  double closest = 1e9;
+  for (std::size_t i = 0; i < s4.size(); ++i)
+    for (std::size_t j = i + 1; j < s4.size(); ++j)
+      closest = std::min(closest, std::hypot(double(s4[i][0] - s4[j][0]), double(s4[i][1] - s4[j][1])));
+  CHECK(closest >= 10.0);
+  CHECK(s4[0] == gv::coord<2>{10, 10});  // starts at the centre
+  // more seeds than domain voxels: every domain voxel once
+  auto tiny = ph::constant(gv::grid<2>({3, 2}));
+  tiny[4] = 0.0f;
+  check_seed_list(tiny, ph::spread_seeds(tiny, 50), 5);
+  // nothing to pick
+  CHECK(ph::spread_seeds(tiny, 0).empty());
+  CHECK(ph::spread_seeds(ph::constant(gv::grid<2>({3, 3}), 0.0f), 3).empty());
+}
+
+TEST_CASE("phantom: random_seeds returns distinct in-domain voxels, deterministic in the salt") {
+  const auto steak = ph::steak(gv::grid<3>({48, 36, 12}));
+  const auto a = ph::random_seeds(steak, 50, 1);
+  check_seed_list(steak, a, 50);
+  CHECK(ph::random_seeds(steak, 50, 1) == a);
+  CHECK(ph::random_seeds(steak, 50, 2) != a);
+  auto tiny = ph::constant(gv::grid<2>({3, 2}));
+  tiny[0] = -1.0f;
+  check_seed_list(tiny, ph::random_seeds(tiny, 9, 7), 5);
+}
+
+}  // namespace
