@@ -299,10 +299,15 @@ bool model_box(const P& p, const cd::tiling& t, const std::vector<float>& old, i
 
 template <int N>
 void insert_cases(std::mt19937_64& rng, int& boxed, int& fell_back) {
+  constexpr int Dim = gv::connectivity<N>::dim;
   for (int trial = 0; trial < 10; ++trial) {
-    // large grids with few seeds give cells that leave the 16^3 box
+    // large grids with few seeds give cells that leave the box (16^3 in 3D, 64^2 in 2D)
     const index_t n = trial % 2 ? 12 : 34;
-    const gv::grid<3> g({n, n - 3, n / 2 + 1}, {1.0, 1.0, trial % 3 ? 1.0 : 1.6});
+    gv::grid<Dim> g;
+    if constexpr (Dim == 3)
+      g = gv::grid<3>({n, n - 3, n / 2 + 1}, {1.0, 1.0, trial % 3 ? 1.0 : 1.6});
+    else
+      g = gv::grid<2>({3 * n, 2 * n + 1}, {1.0, trial % 3 ? 1.0 : 1.6});
     const auto f = gvtest::random_field<float>(rng, g.size(), trial % 3 != 0, 0.1, false);
     const auto p = gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<N>{});
     const auto seeds = gvtest::random_seeds(rng, p, 2 + int(rng() % 3));
@@ -348,6 +353,7 @@ TEST_CASE("cuda model: insert-query boxes and the whole-grid fallback equal seq"
   int boxed = 0, fell_back = 0;
   insert_cases<6>(rng, boxed, fell_back);
   insert_cases<26>(rng, boxed, fell_back);
+  insert_cases<8>(rng, boxed, fell_back);
   // both paths were exercised
   CHECK(boxed > 0);
   CHECK(fell_back > 0);
