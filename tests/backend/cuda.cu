@@ -69,9 +69,14 @@ namespace {
 bool only_lists(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const char* a = argv[i];
+    // doctest's listing, counting, help and version options, short and long, with and without "dt-"
     for (const char* flag : {"-ltc", "-lts", "-lr", "-c", "-h", "-?", "-v", "--list", "--count", "--help", "--version",
-                             "-dt-ltc", "-dt-lts", "-dt-lr", "-dt-c", "-dt-h", "-dt-v"})
-      if (std::strncmp(a, flag, std::strlen(flag)) == 0) return true;
+                             "-dt-ltc", "-dt-lts", "-dt-lr", "-dt-c", "-dt-h", "-dt-v", "--dt-list", "--dt-count",
+                             "--dt-help", "--dt-version"}) {
+      const std::size_t n = std::strlen(flag);
+      // a short flag must match exactly (or be followed by '='), so "-c" does not catch other options
+      if (std::strncmp(a, flag, n) == 0 && (flag[1] == '-' || a[n] == '\0' || a[n] == '=')) return true;
+    }
   }
   return false;
 }
