@@ -47,3 +47,15 @@ if(GEOVORONOI_HAVE_CUDA)
     $<$<COMPILE_LANGUAGE:CUDA>:-Xcompiler=-Wall,-Wextra,-Wshadow>
     $<$<AND:$<COMPILE_LANGUAGE:CUDA>,$<BOOL:${GEOVORONOI_WERROR}>>:-Werror=all-warnings>)
 endif()
+
+# Without a device: every entry point throws cuda_error with the call site and CUDA's message.
+if(GEOVORONOI_HAVE_CUDA)
+  add_executable(test_cuda_errors ${CMAKE_CURRENT_LIST_DIR}/cuda_errors.cu)
+  target_link_libraries(test_cuda_errors PRIVATE geovoronoi::cuda geovoronoi_dev_options)
+  set_target_properties(test_cuda_errors PROPERTIES CUDA_ARCHITECTURES "${GEOVORONOI_CUDA_ARCHITECTURES}")
+  target_compile_options(test_cuda_errors PRIVATE
+    $<$<COMPILE_LANGUAGE:CUDA>:-Xcompiler=-Wall,-Wextra,-Wshadow>
+    $<$<AND:$<COMPILE_LANGUAGE:CUDA>,$<BOOL:${GEOVORONOI_WERROR}>>:-Werror=all-warnings>)
+  add_test(NAME test_cuda_errors COMMAND test_cuda_errors)
+  set_tests_properties(test_cuda_errors PROPERTIES SKIP_RETURN_CODE 77 LABELS cuda)
+endif()

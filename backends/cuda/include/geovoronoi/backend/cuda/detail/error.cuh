@@ -51,7 +51,14 @@ class device_buffer {
  public:
   device_buffer() = default;
   explicit device_buffer(std::size_t count) : size_(count) {
-    if (count) GEOVORONOI_CUDA_CHECK(cudaMalloc(reinterpret_cast<void**>(&ptr_), count * sizeof(T)));
+    if (count) {
+      const cudaError_t e = cudaMalloc(reinterpret_cast<void**>(&ptr_), count * sizeof(T));
+      if (e != cudaSuccess) {
+        ptr_ = nullptr;
+        size_ = 0;
+        check(e, ("cudaMalloc of " + std::to_string(count * sizeof(T)) + " bytes").c_str(), __FILE__, __LINE__);
+      }
+    }
   }
   device_buffer(const device_buffer&) = delete;
   device_buffer& operator=(const device_buffer&) = delete;
