@@ -159,7 +159,7 @@ long long model_engine(const P& p, const Rule& rule, const cd::tiling& t, std::v
 /// backend_solve's float path in the model.
 template <class P>
 gv::diagram<float, P::dim> model_solve_float(const P& p, const std::vector<gv::source<float>>& src, float radius,
-                                             schedule sched) {
+                                             schedule sched, bool label_pass = true) {
   const auto t = tiling_of(p);
   std::vector<uint64_t> words(static_cast<std::size_t>(t.voxels()), cd::unreached);
   std::vector<cd::seed_word> seeds;
@@ -167,6 +167,10 @@ gv::diagram<float, P::dim> model_solve_float(const P& p, const std::vector<gv::s
     if (s.distance < radius) seeds.push_back({s.voxel, cd::pack(s.distance, s.label)});
   bool bad = false;
   model_engine(p, cd::rule_voronoi{radius}, t, words, seeds, sched, bad);
+  if (label_pass) {
+    for (auto& w : words) w = cd::clear_label(w);
+    model_engine(p, cd::rule_label{}, t, words, seeds, sched, bad);
+  }
   CHECK_FALSE(bad);
   gv::diagram<float, P::dim> d;
   d.distance = gv::image<float, P::dim>(p.geometry, std::numeric_limits<float>::infinity());
@@ -357,4 +361,38 @@ TEST_CASE("cuda model: insert-query boxes and the whole-grid fallback equal seq"
   // both paths were exercised
   CHECK(boxed > 0);
   CHECK(fell_back > 0);
+}
+
+TEST_CASE("cuda model: the float label pass gives Dijkstra's labels where relaxation alone keeps stale ones") {
+  // The generator loop below (26-connected, min_stiffness, anisotropic, up to 15^3, 2 to 9 seeds) hits
+  // rounding absorption, fl(d' + w) == fl(d + w) with d' > d, on a few trials; on those a plain
+  // label-correcting relaxation (the tests' Bellman-Ford oracle included) can keep a label that came
+  // through a stale key. Those trials are re-solved here: with the label pass the model must equal
+  // seq; how many of them the first pass alone gets wrong is reported.
+  std::mt19937_64 rng(11);
+  int first_pass_wrong = 0, checked = 0;
+  for (int t = 0; t < 4000; ++t) {
+    gv::coord<3> e{};
+    for (auto& x : e) x = 4 + index_t(rng() % 12);
+    const gv::grid<3> g(e, {1.0, t % 2 ? 0.7 : 1.0, t % 3 ? 1.3 : 1.0}, {});
+    const auto f = gvtest::random_field<float>(rng, g.size(), t % 2 == 0, 0.0, false);
+    const auto p = gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<26>{});
+    const auto seeds = gvtest::random_seeds(rng, p, 2 + int(rng() % 8));
+    if (t != 3666 && t != 3710 && t != 3822 && t != 3978) continue;
+    const auto src = gvtest::as_sources(p, seeds);
+    const auto expect = gv::voronoi(gv::seq, p, seeds);
+    const float inf = std::numeric_limits<float>::infinity();
+    for (auto sched : {schedule::one_by_one, schedule::all_stale}) {
+      require_same(model_solve_float(p, src, inf, sched), expect, "with label pass, trial " + std::to_string(t));
+      const auto raw = model_solve_float(p, src, inf, sched, false);
+      bool differs = false;
+      for (index_t v = 0; v < g.size(); ++v) differs = differs || raw.label[v] != expect.label[v];
+      first_pass_wrong += differs;
+      ++checked;
+    }
+  }
+  MESSAGE("first pass alone disagreed with seq on " << first_pass_wrong << " of " << checked << " solves");
+  // a warning, not a failure: which trials hit absorption depends on oracle.hpp's generators
+  WARN(first_pass_wrong > 0);
+  CHECK(checked == 8);
 }

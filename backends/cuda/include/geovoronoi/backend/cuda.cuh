@@ -98,7 +98,13 @@ dense_state<P> solve_dense(const device_problem<P>& dp, const tiling& t,
         seeds.push_back({x.voxel, distance_word(x.distance)});
     }
   if constexpr (std::is_same_v<T, float>) {
+    // pass 1: (distance, label) keys; pass 2: labels again from the final distances (rule_label)
     run_engine(dp.view, rule_voronoi{radius}, t, st.words.data(), seeds, s);
+    const index_t n = t.voxels();
+    const int blocks = int((n + 255) / 256 < 65535 ? (n + 255) / 256 : 65535);
+    clear_labels_kernel<><<<blocks, 256, 0, s>>>(st.words.data(), n);
+    GEOVORONOI_CUDA_CHECK_LAUNCH("clear_labels_kernel");
+    run_engine(dp.view, rule_label{}, t, st.words.data(), seeds, s);
   } else {
     run_engine(dp.view, rule_distance<T>{radius}, t, st.words.data(), seeds, s);
     st.labels = device_buffer<unsigned int>(std::size_t(t.voxels()));

@@ -57,6 +57,13 @@ GEOVORONOI_KERNEL void seed_kernel(tiling t, unsigned long long* words, const se
   }
 }
 
+/// Clears the label half of every reached key before the float label pass.
+template <class = void>
+GEOVORONOI_KERNEL void clear_labels_kernel(unsigned long long* words, index_t n) {
+  for (index_t v = index_t(blockIdx.x) * blockDim.x + threadIdx.x; v < n; v += index_t(gridDim.x) * blockDim.x)
+    words[v] = clear_label(words[v]);
+}
+
 /// After an iteration: the list just filled becomes current (its tiles may be queued again), the
 /// list just consumed is emptied for the next iteration to fill.
 template <class = void>

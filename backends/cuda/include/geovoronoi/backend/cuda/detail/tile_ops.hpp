@@ -68,17 +68,35 @@ GEOVORONOI_HOST_DEVICE inline bool in_domain(typename P::value_type f) {
 /// float Voronoi: packed (distance, label) keys; accepts distances below the radius.
 struct rule_voronoi {
   float radius;
-  GEOVORONOI_HOST_DEVICE uint64_t candidate(uint64_t from, float w, index_t) const {
+  GEOVORONOI_HOST_DEVICE uint64_t candidate(uint64_t from, float w, index_t, uint64_t) const {
     const float nd = add_rn(key_distance(from), w);
     return nd < radius ? pack(nd, key_label(from)) : unreached;
   }
 };
 
+/// float labels, second pass: distances are final; a voxel takes the label of a neighbour that
+/// realises its distance bit for bit, if that label is smaller. Needed because label-correcting
+/// relaxation can leave a label that arrived through a stale key: when fl(d' + w) == fl(d + w) for
+/// a neighbour's earlier distance d' > d, the voxel keeps the earlier (smaller) label although
+/// Dijkstra, which relaxes from final keys only, gives the label of the final key.
+struct rule_label {
+  GEOVORONOI_HOST_DEVICE uint64_t candidate(uint64_t from, float w, index_t, uint64_t to) const {
+    if (to == unreached) return unreached;
+    const float nd = add_rn(key_distance(from), w);
+    return float_bits(nd) == uint32_t(to >> 32) ? pack(key_distance(to), key_label(from)) : unreached;
+  }
+};
+
+/// The first-pass key with its label cleared (all ones), for the label pass to refill.
+GEOVORONOI_HOST_DEVICE inline uint64_t clear_label(uint64_t key) noexcept {
+  return key == unreached ? key : (key | uint64_t(0xFFFFFFFFu));
+}
+
 /// Distances only (double solves; labels follow in a separate pass).
 template <class T>
 struct rule_distance {
   T radius;
-  GEOVORONOI_HOST_DEVICE uint64_t candidate(uint64_t from, T w, index_t) const {
+  GEOVORONOI_HOST_DEVICE uint64_t candidate(uint64_t from, T w, index_t, uint64_t) const {
     const T nd = add_rn(word_distance<T>(from), w);
     return nd < radius ? distance_word(nd) : unreached;
   }
@@ -88,7 +106,7 @@ struct rule_distance {
 template <class T>
 struct rule_insert {
   const T* old;
-  GEOVORONOI_HOST_DEVICE uint64_t candidate(uint64_t from, T w, index_t v) const {
+  GEOVORONOI_HOST_DEVICE uint64_t candidate(uint64_t from, T w, index_t v, uint64_t) const {
     const T nd = add_rn(word_distance<T>(from), w);
     return nd < old[v] ? distance_word(nd) : unreached;
   }
@@ -149,7 +167,7 @@ GEOVORONOI_HOST_DEVICE inline uint64_t pull(const P& p, const Rule& rule, const 
       bad = true;
       continue;
     }
-    const uint64_t c = rule.candidate(su, w, v);
+    const uint64_t c = rule.candidate(su, w, v, uint64_t(sw[me]));
     if (c < best) best = c;
   }
   return best;
@@ -180,7 +198,7 @@ GEOVORONOI_HOST_DEVICE inline uint64_t push_candidate(const P& p, const Rule& ru
       bad = true;
       continue;
     }
-    const uint64_t c = rule.candidate(su, w, h);
+    const uint64_t c = rule.candidate(su, w, h, uint64_t(sw[hs]));
     if (c < best) best = c;
   }
   return best < uint64_t(sw[hs]) ? best : unreached;
