@@ -3,8 +3,8 @@
 ///
 /// Cases (all with UseManualTime, the time being what the events measure on the backend's stream):
 ///  - `voronoi/cuda/<field>/<n>/<seeds>/<conn>`: the device solve alone: the field is already on the
-///    device and the result stays there (seeding, relaxation iterations, worklist, host checks of the
-///    active count every few iterations). n = 64..512; constant, gradient, steak; 10, 100, 1000 seeds.
+///    device and the result stays there (allocation of the keys, seeding, both engine passes with their
+///    worklists and host checks of the active count every few iterations). n = 64..512; constant, gradient, steak; 10, 100, 1000 seeds.
 ///  - `voronoi/cuda_end_to_end/<field>/<n>/<seeds>/<conn>`: the whole `geovoronoi::voronoi(cuda::par, ...)`
 ///    call: field upload, solve, download and unpacking into the diagram images.
 ///  - `copy/cuda/<n>`: a device-to-device copy of the float solve's working set (12 bytes per voxel):
@@ -64,13 +64,9 @@ struct device_solve {
     const cd::device_problem<P> dp(p, c.stream);
     std::vector<gv::source<float>> src;
     for (std::size_t i = 0; i < seeds.size(); ++i) src.push_back({p.geometry.index(seeds[i]), 0.0f, gv::label_t(i)});
-    std::vector<cd::seed_word> sw;
-    for (const auto& s : src) sw.push_back({s.voxel, cd::pack(s.distance, s.label)});
-    gv::cuda::detail::device_buffer<unsigned long long> words(std::size_t(t.voxels()));
-    words.fill_bytes(0xFF, c.stream);
     GEOVORONOI_CUDA_CHECK(cudaEventRecord(c.start.get(), c.stream));
-    stats().iterations = cd::run_engine(dp.view, cd::rule_voronoi{std::numeric_limits<float>::infinity()}, t,
-                                        words.data(), sw, c.stream);
+    // the backend's own dense solve (both passes); the state stays on the device until the end
+    const auto st = cd::solve_dense(dp, t, src, std::numeric_limits<float>::infinity(), c.stream, &stats().iterations);
     GEOVORONOI_CUDA_CHECK(cudaEventRecord(c.stop.get(), c.stream));
     const double secs = c.seconds();
     GEOVORONOI_CUDA_CHECK(cudaMemGetInfo(&free_after, &total));

@@ -81,9 +81,11 @@ struct dense_state {
   device_buffer<unsigned int> labels;  // double only
 };
 
+/// The dense solve on the device; @p iterations (optional) receives the engine iterations run.
 template <class P>
 dense_state<P> solve_dense(const device_problem<P>& dp, const tiling& t,
-                           const std::vector<source<T_of<P>>>& sources, T_of<P> radius, cudaStream_t s) {
+                           const std::vector<source<T_of<P>>>& sources, T_of<P> radius, cudaStream_t s,
+                           long long* iterations = nullptr) {
   using T = T_of<P>;
   static_assert(std::is_trivially_copyable_v<P>, "geovoronoi::cuda: the problem must be trivially copyable");
   dense_state<P> st;
@@ -99,14 +101,16 @@ dense_state<P> solve_dense(const device_problem<P>& dp, const tiling& t,
     }
   if constexpr (std::is_same_v<T, float>) {
     // pass 1: (distance, label) keys; pass 2: labels again from the final distances (rule_label)
-    run_engine(dp.view, rule_voronoi{radius}, t, st.words.data(), seeds, s);
+    long long it = run_engine(dp.view, rule_voronoi{radius}, t, st.words.data(), seeds, s);
     const index_t n = t.voxels();
     const int blocks = int((n + 255) / 256 < 65535 ? (n + 255) / 256 : 65535);
     clear_labels_kernel<><<<blocks, 256, 0, s>>>(st.words.data(), n);
     GEOVORONOI_CUDA_CHECK_LAUNCH("clear_labels_kernel");
-    run_engine(dp.view, rule_label{}, t, st.words.data(), seeds, s);
+    it += run_engine(dp.view, rule_label{}, t, st.words.data(), seeds, s);
+    if (iterations) *iterations = it;
   } else {
-    run_engine(dp.view, rule_distance<T>{radius}, t, st.words.data(), seeds, s);
+    const long long it = run_engine(dp.view, rule_distance<T>{radius}, t, st.words.data(), seeds, s);
+    if (iterations) *iterations = it;
     st.labels = device_buffer<unsigned int>(std::size_t(t.voxels()));
     st.labels.fill_bytes(0xFF, s);
     std::vector<label_seed> ls;
