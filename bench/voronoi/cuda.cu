@@ -143,4 +143,6 @@ GEOVORONOI_BENCH_REGISTER(register_cuda_cases) {
   }
 }
 
+#ifndef GEOVORONOI_BENCH_COMBINED
 GEOVORONOI_BENCH_MAIN()
+#endif
