@@ -1,0 +1,272 @@
+#pragma once
+/// @file backend/cuda.cuh
+/// @brief The CUDA kernel backend: tiled wavefront relaxation in shared memory with an active-tile
+///        worklist on the device and packed (distance, label) keys updated with 64-bit atomicMin.
+///
+/// Select it by passing geovoronoi::cuda::par (or `par.on(stream)`) as the first argument of any
+/// solver entry point in geovoronoi/voronoi.hpp. Results are bitwise identical to geovoronoi::seq:
+/// edge weights come from the same metric objects and stencil lengths, additions are __fadd_rn /
+/// __dadd_rn and the target carries --fmad=false. Needs nvcc; link geovoronoi::cuda.
+///
+/// Device memory: plain cudaMalloc through RAII owners (never managed memory). A dense float solve
+/// peaks at 12 bytes per voxel (4 field + 8 key) plus 12 bytes per 512-voxel tile; a double solve at
+/// 20 bytes per voxel (8 field + 8 distance + 4 label). Every CUDA failure throws
+/// geovoronoi::cuda::cuda_error (a geovoronoi::error) naming the call and CUDA's message.
+///
+/// @code
+/// #include <geovoronoi.hpp>
+/// #include <geovoronoi/backend/cuda.cuh>
+/// auto d = geovoronoi::voronoi(geovoronoi::cuda::par.on(stream), problem, seeds);
+/// @endcode
+
+#include <geovoronoi/backend/cuda/detail/engine.cuh>
+#include <geovoronoi/backend/cuda/detail/error.cuh>
+#include <geovoronoi/backend/cuda/detail/insert.cuh>
+#include <geovoronoi/backend/cuda/detail/labels.cuh>
+#include <geovoronoi/backend/cuda/detail/tiling.hpp>
+#include <geovoronoi/result.hpp>
+
+#include <cuda_runtime.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+#include <vector>
+
+namespace geovoronoi::cuda {
+
+/**
+ * @brief Policy type of the CUDA backend: which stream the work is queued on.
+ *
+ * Calls are synchronous with respect to the host (they return finished results) but only touch
+ * @c stream, so several host threads can solve concurrently on different streams.
+ */
+struct par_t {
+  /// The stream every copy and kernel goes to; nullptr is the default stream.
+  cudaStream_t stream = nullptr;
+  /// @brief The same policy on stream @p s: `geovoronoi::cuda::par.on(s)`.
+  constexpr par_t on(cudaStream_t s) const noexcept { return par_t{s}; }
+};
+
+/// The CUDA backend's policy object: `geovoronoi::voronoi(geovoronoi::cuda::par, ...)`.
+inline constexpr par_t par{};
+
+namespace detail {
+
+template <class P>
+using T_of = typename P::value_type;
+
+template <class P>
+tiling tiling_of(const P& p) {
+  const auto& g = p.geometry;
+  return make_tiling<P::dim>(g.extent(0), g.extent(1), P::dim == 3 ? g.extent(P::dim - 1) : 1);
+}
+
+/// The problem's field on the device, and a copy of the problem that points at it.
+template <class P>
+struct device_problem {
+  device_buffer<T_of<P>> field;
+  P view;
+  device_problem(const P& p, cudaStream_t s) : field(std::size_t(p.geometry.size())), view(p) {
+    field.upload(p.field, field.size(), s);
+    view.field = field.data();
+  }
+};
+
+/// Dense solve into state words (float: packed keys; double: distance bits, plus labels).
+template <class P>
+struct dense_state {
+  device_buffer<unsigned long long> words;
+  device_buffer<unsigned int> labels;  // double only
+};
+
+/// The dense solve on the device; @p iterations (optional) receives the engine iterations run.
+template <class P>
+dense_state<P> solve_dense(const device_problem<P>& dp, const tiling& t,
+                           const std::vector<source<T_of<P>>>& sources, T_of<P> radius, cudaStream_t s,
+                           long long* iterations = nullptr) {
+  using T = T_of<P>;
+  static_assert(std::is_trivially_copyable_v<P>, "geovoronoi::cuda: the problem must be trivially copyable");
+  dense_state<P> st;
+  st.words = device_buffer<unsigned long long>(std::size_t(t.voxels()));
+  st.words.fill_bytes(0xFF, s);
+  std::vector<seed_word> seeds;
+  for (const auto& x : sources)
+    if (x.distance < radius) {
+      if constexpr (std::is_same_v<T, float>)
+        seeds.push_back({x.voxel, pack(x.distance, x.label)});
+      else
+        seeds.push_back({x.voxel, distance_word(x.distance)});
+    }
+  if constexpr (std::is_same_v<T, float>) {
+    // pass 1: (distance, label) keys; pass 2: labels again from the final distances (rule_label)
+    long long it = run_engine(dp.view, rule_voronoi{radius}, t, st.words.data(), seeds, s);
+    const index_t n = t.voxels();
+    const int blocks = int((n + 255) / 256 < 65535 ? (n + 255) / 256 : 65535);
+    clear_labels_kernel<><<<blocks, 256, 0, s>>>(st.words.data(), n);
+    GEOVORONOI_CUDA_CHECK_LAUNCH("clear_labels_kernel");
+    it += run_engine(dp.view, rule_label{}, t, st.words.data(), seeds, s);
+    if (iterations) *iterations = it;
+  } else {
+    const long long it = run_engine(dp.view, rule_distance<T>{radius}, t, st.words.data(), seeds, s);
+    if (iterations) *iterations = it;
+    st.labels = device_buffer<unsigned int>(std::size_t(t.voxels()));
+    st.labels.fill_bytes(0xFF, s);
+    std::vector<label_seed> ls;
+    for (const auto& x : sources)
+      if (x.distance < radius) ls.push_back({x.voxel, distance_word(x.distance), std::uint32_t(x.label)});
+    run_label_pass(dp.view, t, st.words.data(), st.labels.data(), ls, s);
+  }
+  return st;
+}
+
+/// Calls f(v, distance, label) for every reached voxel, in increasing voxel order.
+template <class P, class F>
+void for_each_reached(const dense_state<P>& st, index_t n, cudaStream_t s, F&& f) {
+  using T = T_of<P>;
+  std::vector<unsigned long long> words(static_cast<std::size_t>(n));
+  st.words.download(words.data(), words.size(), s);
+  std::vector<unsigned int> labels;
+  if constexpr (!std::is_same_v<T, float>) {
+    labels.resize(static_cast<std::size_t>(n));
+    st.labels.download(labels.data(), labels.size(), s);
+  }
+  sync(s, "download of the solution");
+  for (index_t v = 0; v < n; ++v) {
+    const auto w = words[static_cast<std::size_t>(v)];
+    if (w == unreached) continue;
+    if constexpr (std::is_same_v<T, float>)
+      f(v, key_distance(w), key_label(w));
+    else
+      f(v, word_distance<T>(w), label_t(labels[static_cast<std::size_t>(v)]));
+  }
+}
+
+}  // namespace detail
+
+/**
+ * @brief Dense multi-source solve (backend hook; call geovoronoi::voronoi or geodesic_solve).
+ * @throws cuda_error on any CUDA failure, metric_error on a negative or NaN edge weight.
+ */
+template <class P>
+diagram<detail::T_of<P>, P::dim> backend_solve(par_t policy, const P& p,
+                                               const std::vector<source<detail::T_of<P>>>& sources,
+                                               const solve_options& opt) {
+  using T = detail::T_of<P>;
+  const auto t = detail::tiling_of(p);
+  const detail::device_problem<P> dp(p, policy.stream);
+  const auto st = detail::solve_dense(dp, t, sources, static_cast<T>(opt.max_distance), policy.stream);
+  diagram<T, P::dim> d;
+  d.distance = image<T, P::dim>(p.geometry, std::numeric_limits<T>::infinity());
+  d.label = image<label_t, P::dim>(p.geometry, no_label);
+  detail::for_each_reached(st, t.voxels(), policy.stream, [&](index_t v, T dist, label_t l) {
+    d.distance[v] = dist;
+    d.label[v] = l;
+  });
+  return d;
+}
+
+/**
+ * @brief Radius-bounded solve (backend hook; call geovoronoi::bounded_solve or single_source).
+ *
+ * Runs the dense engine with the radius as acceptance bound (device memory is dense, unlike seq's)
+ * and returns the reached voxels sorted by index.
+ */
+template <class P>
+sparse_solution<detail::T_of<P>> backend_bounded(par_t policy, const P& p,
+                                                 const std::vector<source<detail::T_of<P>>>& sources,
+                                                 detail::T_of<P> radius) {
+  using T = detail::T_of<P>;
+  const auto t = detail::tiling_of(p);
+  const detail::device_problem<P> dp(p, policy.stream);
+  const auto st = detail::solve_dense(dp, t, sources, radius, policy.stream);
+  sparse_solution<T> r;
+  detail::for_each_reached(st, t.voxels(), policy.stream, [&](index_t v, T dist, label_t l) {
+    r.voxel.push_back(v);
+    r.distance.push_back(dist);
+    r.label.push_back(l);
+  });
+  return r;
+}
+
+/// Queries per kernel launch of insert_queries (bounds the output slots: 4096 voxels each).
+inline constexpr std::size_t query_batch = 256;
+
+/**
+ * @brief New cells of many queries at once (backend hook; call geovoronoi::insert_queries).
+ *
+ * One block per query relaxes a box around it in shared memory; queries whose cell reaches an open
+ * box face are recomputed by the tiled engine over the whole grid. Same output as seq.
+ */
+template <class P>
+query_cells<detail::T_of<P>> backend_insert_queries(par_t policy, const P& p, const diagram<detail::T_of<P>, P::dim>& d,
+                                                    const std::vector<index_t>& queries) {
+  using T = detail::T_of<P>;
+  using B = detail::query_box_shape<P::dim>;
+  const cudaStream_t s = policy.stream;
+  query_cells<T> out;
+  out.query = queries;
+  out.offsets.reserve(queries.size() + 1);
+  if (queries.empty()) return out;
+  const auto t = detail::tiling_of(p);
+  const detail::device_problem<P> dp(p, s);
+  detail::device_buffer<T> old(std::size_t(t.voxels()));
+  old.upload(d.distance.data(), old.size(), s);
+
+  const std::size_t batch = std::min(query_batch, queries.size());
+  detail::device_buffer<index_t> dq(batch);
+  detail::device_buffer<index_t> ovox(batch * B::voxels);
+  detail::device_buffer<T> odist(batch * B::voxels);
+  detail::device_buffer<std::uint32_t> ocount(batch), oflow(batch);
+  std::vector<std::uint32_t> count(batch), flow(batch);
+  std::vector<index_t> vox;
+  std::vector<T> dist;
+  detail::device_buffer<unsigned long long> fallback;  // allocated on the first overflow
+
+  for (std::size_t b0 = 0; b0 < queries.size(); b0 += batch) {
+    const std::size_t nb = std::min(batch, queries.size() - b0);
+    dq.upload(queries.data() + b0, nb, s);
+    const detail::query_out<T> o{ovox.data(), odist.data(), ocount.data(), oflow.data()};
+    detail::insert_box_kernel<P><<<unsigned(nb), detail::query_threads, 0, s>>>(dp.view, t, old.data(), dq.data(), o);
+    GEOVORONOI_CUDA_CHECK_LAUNCH("insert_box_kernel");
+    ocount.download(count.data(), nb, s);
+    oflow.download(flow.data(), nb, s);
+    vox.resize(nb * B::voxels);
+    dist.resize(nb * B::voxels);
+    ovox.download(vox.data(), vox.size(), s);
+    odist.download(dist.data(), dist.size(), s);
+    detail::sync(s, "insert_box_kernel");
+    for (std::size_t i = 0; i < nb; ++i) {
+      if (!flow[i]) {
+        const std::size_t at = i * B::voxels;
+        for (std::size_t j = 0; j < count[i]; ++j) {
+          out.voxel.push_back(vox[at + j]);
+          out.distance.push_back(dist[at + j]);
+          out.owner.push_back(d.label[vox[at + j]]);
+        }
+      } else {
+        // the cell leaves the box: relax from the query over the whole grid
+        const index_t q = queries[b0 + i];
+        if (!fallback.size()) fallback = detail::device_buffer<unsigned long long>(std::size_t(t.voxels()));
+        fallback.fill_bytes(0xFF, s);
+        std::vector<detail::seed_word> seed;
+        if (T(0) < d.distance[q]) seed.push_back({q, detail::distance_word(T(0))});
+        detail::run_engine(dp.view, detail::rule_insert<T>{old.data()}, t, fallback.data(), seed, s);
+        std::vector<unsigned long long> words(fallback.size());
+        fallback.download(words.data(), words.size(), s);
+        detail::sync(s, "insert-query fallback");
+        for (std::size_t v = 0; v < words.size(); ++v)
+          if (words[v] != detail::unreached) {
+            out.voxel.push_back(index_t(v));
+            out.distance.push_back(detail::word_distance<T>(words[v]));
+            out.owner.push_back(d.label[index_t(v)]);
+          }
+      }
+      out.offsets.push_back(out.voxel.size());
+    }
+  }
+  return out;
+}
+
+}  // namespace geovoronoi::cuda
