@@ -65,6 +65,37 @@ gv::diagram<typename P::value_type, P::dim> oracle(const P& p, const std::vector
       }
     }
   }
+  // Bellman-Ford's distances are the unique fixed point, but a label can survive from a proposal made
+  // through a neighbour's earlier, larger distance that happened to round to the same sum. The labels
+  // the tie rule defines are those realised by final distances only: recompute them from "none",
+  // taking at each voxel the smallest label among the sources and neighbours that realise its
+  // distance, until nothing changes (the greatest fixed point, which is what Dijkstra produces).
+  std::vector<gv::label_t> fin(n, gv::no_label);
+  auto lower = [](gv::label_t cand, gv::label_t cur) { return cand != gv::no_label && (cur == gv::no_label || cand < cur); };
+  for (const auto& s : src)
+    if (s.distance == d[s.voxel] && lower(s.label, fin[s.voxel])) fin[s.voxel] = s.label;
+  changed = true;
+  while (changed) {
+    changed = false;
+    for (gv::index_t v = 0; v < n; ++v) {
+      if (!p.inside(v) || l[v] == gv::no_label) continue;
+      const auto cv = g.coords(v);
+      for (int k = 0; k < P::neighbours; ++k) {
+        gv::coord<Dim> cu = cv;
+        for (int a = 0; a < Dim; ++a) cu[a] += offs[k][a];
+        if (!g.contains(cu)) continue;
+        const gv::index_t u = g.index(cu);
+        if (!p.inside(u) || fin[u] == gv::no_label) continue;
+        const T w = p.metric(p.edges.length[k], p.field[u], p.field[v]);
+        const T nd = d[u] + w;
+        if (nd == d[v] && lower(fin[u], fin[v])) {
+          fin[v] = fin[u];
+          changed = true;
+        }
+      }
+    }
+  }
+  l = std::move(fin);
   gv::diagram<T, Dim> r;
   r.distance = gv::image<T, Dim>(g, std::move(d));
   r.label = gv::image<gv::label_t, Dim>(g, std::move(l));
@@ -74,11 +105,11 @@ gv::diagram<typename P::value_type, P::dim> oracle(const P& p, const std::vector
 /// A user-defined metric (asymmetric on purpose: it charges the destination's cost).
 struct destination_cost {
   template <class T>
-  T operator()(T length, T, T to) const noexcept {
+  GEOVORONOI_HOST_DEVICE T operator()(T length, T, T to) const noexcept {
     return length * to;
   }
   template <class T>
-  static bool inside(T v) noexcept {
+  GEOVORONOI_HOST_DEVICE static bool inside(T v) noexcept {
     return v > T(0) && v < T(100);
   }
 };
