@@ -19,6 +19,8 @@ struct key_traits<float> {
   using key_type = std::uint64_t;
   static constexpr int bits = 64;
   static constexpr key_type unreached = ~std::uint64_t(0);
+  /// The same, callable from device code (static data members of class type are host-only in CUDA).
+  GEOVORONOI_HOST_DEVICE static constexpr key_type unreached_key() noexcept { return ~std::uint64_t(0); }
   GEOVORONOI_HOST_DEVICE static key_type make(float d, label_t l) noexcept {
     std::uint32_t b;
     std::memcpy(&b, &d, sizeof b);
@@ -53,6 +55,8 @@ struct key_traits<double> {
   using key_type = wide_key;
   static constexpr int bits = 96;
   static constexpr key_type unreached = {~std::uint64_t(0), ~std::uint32_t(0)};
+  /// The same, callable from device code (static data members of class type are host-only in CUDA).
+  GEOVORONOI_HOST_DEVICE static constexpr key_type unreached_key() noexcept { return {~std::uint64_t(0), ~std::uint32_t(0)}; }
   GEOVORONOI_HOST_DEVICE static key_type make(double d, label_t l) noexcept {
     std::uint64_t b;
     std::memcpy(&b, &d, sizeof b);

@@ -11,7 +11,7 @@
 /// translation unit must be compiled by nvcc.
 ///
 /// @code
-/// #include <geovoronoi.hpp>
+#include <geovoronoi.hpp>
 /// #include <geovoronoi/backend/thrust.hpp>
 /// geovoronoi::thrust::stats st;
 /// auto d = geovoronoi::voronoi(geovoronoi::thrust::par.with_stats(&st), problem, seeds);
@@ -21,6 +21,7 @@
 /// The algorithm, its memory use and its limits are described in docs/backend-thrust.md.
 
 #include <geovoronoi/backend/thrust/detail/insert_queries.hpp>
+#include <geovoronoi/detail/label_repair.hpp>
 #include <geovoronoi/backend/thrust/detail/near_far.hpp>
 #include <geovoronoi/backend/thrust/detail/solve.hpp>
 #include <geovoronoi/result.hpp>
@@ -139,14 +140,18 @@ template <class P>
 diagram<typename P::value_type, P::dim> backend_solve(const par_t& pol, const P& p,
                                                       const std::vector<source<typename P::value_type>>& s,
                                                       const solve_options& opt) {
-  return detail::solve_on(::thrust::device, pol, p, s, opt);
+  auto d = detail::solve_on(::thrust::device, pol, p, s, opt);
+  ::geovoronoi::detail::repair_labels(p, d, s);  // exact tie labels; see detail/label_repair.hpp
+  return d;
 }
 /// @copydoc backend_solve
 template <class E, class P>
 diagram<typename P::value_type, P::dim> backend_solve(const par_on_t<E>& pol, const P& p,
                                                       const std::vector<source<typename P::value_type>>& s,
                                                       const solve_options& opt) {
-  return detail::solve_on(pol.exec, pol, p, s, opt);
+  auto d = detail::solve_on(pol.exec, pol, p, s, opt);
+  ::geovoronoi::detail::repair_labels(p, d, s);  // exact tie labels; see detail/label_repair.hpp
+  return d;
 }
 
 /// Bounded (sparse) solve (backend hook; call geovoronoi::bounded_solve or single_source).

@@ -43,7 +43,7 @@ struct unpack_fn {
   GEOVORONOI_HOST_DEVICE void operator()(index_t v) const {
     using kt = geovoronoi::detail::key_traits<T>;
     const auto k = key_cell<T>::load(keys + v);
-    if (k == kt::unreached) {
+    if (k == kt::unreached_key()) {
       distance[v] = inf;
       label[v] = no_label;
     } else {
@@ -136,7 +136,7 @@ struct reached_fn {
     }
     index_t c = 0;
     for (index_t v = begin; v < end; ++v)
-      if (key_cell<T>::load(keys + v) != kt::unreached) {
+      if (key_cell<T>::load(keys + v) != kt::unreached_key()) {
         if (out) out[count[j] + c] = v;
         ++c;
       }
