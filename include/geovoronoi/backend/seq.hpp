@@ -42,15 +42,7 @@ diagram<T_of<P>, P::dim> backend_solve(par_t, const P& p, const std::vector<sour
   }
   impl::dense_keys<T> st{work.data()};
   detail::radix_heap<T> heap;
-  for (const auto& s : sources)
-    if (s.distance < radius) {
-      const auto k = kt::make(s.distance, s.label);
-      if (k < st.get(s.voxel)) {
-        st.set(s.voxel, k);
-        heap.push(k, s.voxel);
-      }
-    }
-  impl::run(p, st, heap, [radius](index_t, T nd) { return nd < radius; });
+  impl::run_from_sources(p, st, heap, sources, radius);
   diagram<T, P::dim> d;
   d.distance = image<T, P::dim>(p.geometry, std::numeric_limits<T>::infinity());
   d.label = image<label_t, P::dim>(p.geometry, no_label);
@@ -73,15 +65,7 @@ sparse_solution<T_of<P>> backend_bounded(par_t, const P& p, const std::vector<so
   impl::sparse_keys<T> st;
   st.f = p.field;
   detail::radix_heap<T> heap;
-  for (const auto& s : sources)
-    if (s.distance < radius) {
-      const auto k = kt::make(s.distance, s.label);
-      if (k < st.get(s.voxel)) {
-        st.set(s.voxel, k);
-        heap.push(k, s.voxel);
-      }
-    }
-  impl::run(p, st, heap, [radius](index_t, T nd) { return nd < radius; });
+  impl::run_from_sources(p, st, heap, sources, radius);
   std::vector<std::pair<index_t, typename kt::key_type>> out;
   out.reserve(st.map.size());
   st.map.for_each([&](index_t v, const typename kt::key_type& k) { out.push_back({v, k}); });

@@ -10,6 +10,7 @@
 #include <geovoronoi/detail/stencil_walk.hpp>
 #include <geovoronoi/error.hpp>
 #include <geovoronoi/metric.hpp>
+#include <geovoronoi/result.hpp>
 
 #include <string>
 #include <type_traits>
@@ -117,6 +118,25 @@ std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept) {
     });
   }
   return settled;
+}
+
+/// Queues the sources below @p radius (the smallest key wins on a shared voxel) and runs the search
+/// bounded by the radius: the common start of the dense and the bounded solves.
+template <class P, class State, class Heap>
+std::size_t run_from_sources(const P& p, State& st, Heap& heap,
+                             const std::vector<source<typename P::value_type>>& sources,
+                             typename P::value_type radius) {
+  using T = typename P::value_type;
+  using kt = key_traits<T>;
+  for (const auto& s : sources)
+    if (s.distance < radius) {
+      const auto k = kt::make(s.distance, s.label);
+      if (k < st.get(s.voxel)) {
+        st.set(s.voxel, k);
+        heap.push(k, s.voxel);
+      }
+    }
+  return run(p, st, heap, [radius](index_t, T nd) { return nd < radius; });
 }
 
 }  // namespace geovoronoi::detail::seq_engine
