@@ -113,7 +113,9 @@ std::vector<std::pair<gv::label_t, typename P::value_type>> brute_force(
   double sum = 0;
   for (const auto& x : c) sum += x.raw;
   for (const auto& x : c) out.push_back({x.node, T(x.raw / sum)});
-  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  // the published order holds for the stored (rounded) weights: heavier first, ties to the lower node
+  std::sort(out.begin(), out.end(),
+            [](const auto& a, const auto& b) { return a.second > b.second || (a.second == b.second && a.first < b.first); });
   return out;
 }
 
@@ -164,18 +166,25 @@ void check_properties(const gv::shape_weights<T, Dim>& w, const gv::diagram<T, D
 
 inline long compared = 0;
 
-template <int Dim, int N>
-void brute_force_case(std::mt19937_64& rng, int trial) {
+/// field: 0 random with masks (the general path), 1 constant (translation invariant: the shape functions
+/// take their exact shortcut, detail/shape/translation_invariant.hpp), 2 varying but unmasked with the
+/// uniform metric (also translation invariant).
+template <int Dim, int N, class Metric = gv::min_stiffness>
+void brute_force_case(std::mt19937_64& rng, int trial, int field = 0) {
   using T = float;
   gv::coord<Dim> e{};
   gv::point<Dim> sp{};
+  const double extreme[] = {1.0, 0.01, 1.0 / 3.0, 1000.0, 0.7};
   for (int a = 0; a < Dim; ++a) {
     e[a] = (Dim == 2 ? 5 : 3) + gv::index_t(rng() % (Dim == 2 ? 9 : 5));
-    sp[a] = trial % 2 == 1 ? 0.5 + 0.25 * double(rng() % 5) : 1.0;
+    sp[a] = trial % 2 == 1 ? 0.5 + 0.25 * double(rng() % 5) : field != 0 && trial % 4 == 2 ? extreme[rng() % 5] : 1.0;
   }
   const gv::grid<Dim> g(e, sp);
-  const auto f = random_field<T>(rng, g.size(), trial % 3 == 0, trial % 4 == 0 ? 0.0 : 0.15, false);
-  const auto p = gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<N>{});
+  const auto f = field == 1   ? std::vector<T>(std::size_t(g.size()), T(1.75))
+                 : field == 2 ? random_field<T>(rng, g.size(), trial % 3 == 0, 0.0, false)
+                              : random_field<T>(rng, g.size(), trial % 3 == 0, trial % 4 == 0 ? 0.0 : 0.15, false);
+  const auto p = gv::make_problem(g, f, Metric{}, gv::connectivity<N>{});
+  REQUIRE(geovoronoi::detail::shape::translation_invariant(p) == (field != 0));
   const auto seeds = random_seeds(rng, p, 2 + int(rng() % 5));
   if (seeds.size() < 2) return;
   const auto d = gv::voronoi(gv::seq, p, seeds);
@@ -221,6 +230,22 @@ TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: Sibson and Lapla
     brute_force_case<2, 8>(rng, trial);
     brute_force_case<3, 6>(rng, trial);
     brute_force_case<3, 26>(rng, trial);
+  }
+  MESSAGE("voxels compared with the brute-force definition: " << compared);
+  CHECK(compared > 5000);
+}
+
+TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: translation-invariant problems (the table "
+          "shortcut) equal the brute-force definition") {
+  std::mt19937_64 rng(1123);
+  compared = 0;
+  for (int trial = 0; trial < 4; ++trial) {
+    brute_force_case<2, 4, gv::uniform>(rng, trial, 2);
+    brute_force_case<2, 8, gv::min_stiffness>(rng, trial, 1);
+    brute_force_case<3, 6, gv::mean_cost>(rng, trial, 1);
+    brute_force_case<3, 18, gv::uniform>(rng, trial, 2);
+    brute_force_case<3, 26, gv::mean_stiffness>(rng, trial, 1);
+    brute_force_case<3, 26, gv::uniform>(rng, trial, 1);
   }
   MESSAGE("voxels compared with the brute-force definition: " << compared);
   CHECK(compared > 5000);

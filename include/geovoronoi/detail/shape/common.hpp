@@ -7,6 +7,9 @@
 #include <geovoronoi/result.hpp>
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
+#include <limits>
 #include <cstddef>
 #include <functional>
 #include <stdexcept>
@@ -50,6 +53,24 @@ void store(std::vector<candidate>& c, int k, label_t* node, T* weight) {
       std::swap(node[t], node[t - 1]);
     }
 }
+
+/// Per-node accumulators of one query, cleared in O(touched).
+struct accumulators {
+  std::vector<std::int64_t> volume;                  // stolen voxels per node
+  std::vector<std::array<std::int64_t, 3>> faces;    // facet faces per node and axis
+  std::vector<double> h;                             // min path length through the facet (as double of T)
+  std::vector<char> seen;
+  std::vector<label_t> touched;
+  explicit accumulators(std::size_t nodes)
+      : volume(nodes, 0), faces(nodes, {0, 0, 0}), h(nodes, 0), seen(nodes, 0) {}
+  void touch(label_t k) {
+    if (!seen[k]) seen[k] = 1, touched.push_back(k), h[k] = std::numeric_limits<double>::infinity();
+  }
+  void clear() {
+    for (label_t k : touched) volume[k] = 0, faces[k] = {0, 0, 0}, seen[k] = 0;
+    touched.clear();
+  }
+};
 
 /// Calls the progress callback (if any) and throws geovoronoi::cancelled when it asks to stop.
 inline void report(const std::function<bool(double)>& progress, double fraction) {

@@ -3,10 +3,12 @@
 // the node's own distance over its support and the distance to its cell's frontier.
 
 #include <geovoronoi/detail/shape/common.hpp>
+#include <geovoronoi/detail/shape/translation_invariant.hpp>
 #include <geovoronoi/voronoi.hpp>
 
 #include <algorithm>
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace geovoronoi::detail::shape {
@@ -58,6 +60,10 @@ void distance_ratio(const Policy& policy, const P& p, const D& d, const Options&
       if (lab[v] != no_label) members[fill[std::size_t(lab[v])]++] = v;
   }
 
+  // on a translation-invariant problem the node's own distance is a table lookup (no search)
+  std::optional<offset_table<P>> tab;
+  if (translation_invariant(p)) tab.emplace(policy, p);
+
   std::vector<double> raw(std::size_t(n) * std::size_t(k), 0.0);
   std::vector<source<T>> frontier;
   for (label_t i = 0; i < nodes; ++i) {
@@ -83,7 +89,8 @@ void distance_ratio(const Policy& policy, const P& p, const D& d, const Options&
     }
     // 2. the node's own distance over its support d_i < 2 dmax
     const T radius = T(2) * dmax;
-    const auto di = bounded_solve(policy, p, std::vector<source<T>>{{node_voxel, T(0), 0}}, radius);
+    const auto di = tab ? tab->ball(node_voxel, radius)
+                        : bounded_solve(policy, p, std::vector<source<T>>{{node_voxel, T(0), 0}}, radius);
     auto di_at = [&](index_t v) -> T {
       const auto it = std::lower_bound(di.voxel.begin(), di.voxel.end(), v);
       return (it != di.voxel.end() && *it == v) ? di.distance[std::size_t(it - di.voxel.begin())]

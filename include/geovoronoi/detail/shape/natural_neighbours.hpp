@@ -4,6 +4,8 @@
 // the backend, sorted by voxel) and per-node accumulators reset through a touched list.
 
 #include <geovoronoi/detail/shape/common.hpp>
+#include <geovoronoi/detail/shape/host_parallel.hpp>
+#include <geovoronoi/detail/shape/translation_invariant.hpp>
 #include <geovoronoi/voronoi.hpp>
 
 #include <algorithm>
@@ -13,24 +15,6 @@
 #include <vector>
 
 namespace geovoronoi::detail::shape {
-
-/// Per-node accumulators of one query, cleared in O(touched).
-struct accumulators {
-  std::vector<std::int64_t> volume;                  // stolen voxels per node
-  std::vector<std::array<std::int64_t, 3>> faces;    // facet faces per node and axis
-  std::vector<double> h;                             // min path length through the facet (as double of T)
-  std::vector<char> seen;
-  std::vector<label_t> touched;
-  explicit accumulators(std::size_t nodes)
-      : volume(nodes, 0), faces(nodes, {0, 0, 0}), h(nodes, 0), seen(nodes, 0) {}
-  void touch(label_t k) {
-    if (!seen[k]) seen[k] = 1, touched.push_back(k), h[k] = std::numeric_limits<double>::infinity();
-  }
-  void clear() {
-    for (label_t k : touched) volume[k] = 0, faces[k] = {0, 0, 0}, seen[k] = 0;
-    touched.clear();
-  }
-};
 
 /// Whether voxel w is in the cell whose sorted voxels are cell[0, size), knowing cell[j] = w - delta.
 /// Entries are distinct and sorted, so at most |delta| - 1 of them lie strictly between the two.
@@ -45,8 +29,8 @@ inline bool in_sorted_cell(const index_t* cell, std::size_t size, std::size_t j,
 }
 
 /**
- * Raw Laplace and Sibson weights of one query from its new cell (voxels sorted, their query
- * distances and owners). Writes candidates (node, raw > 0) to @p out.
+ * Raw Laplace and Sibson weights of one query from its accumulators. Writes candidates (node, raw > 0)
+ * to @p out.
  *
  * Sibson: raw_k = (voxels stolen from k) * voxel volume.
  * Laplace: raw_k = s_k / h_k over the facet pairs (v in C_q, w face neighbour of v in the domain, not
@@ -54,44 +38,10 @@ inline bool in_sorted_cell(const index_t* cell, std::size_t size, std::size_t j,
  * (d_q(v) + c(v, w)) + d(w) evaluated in T. If some h_k is 0 (zero-weight edges) those nodes share the
  * weight in proportion to s_k. If the cell has no facet at all, Laplace falls back to Sibson.
  */
-template <class P, class D>
-void query_weights(const P& p, const D& d, const std::vector<face<P::dim>>& faces, bool laplace,
-                   const index_t* cell, const typename P::value_type* dq, const label_t* owner, std::size_t size,
-                   accumulators& acc, std::vector<candidate>& out) {
-  using T = typename P::value_type;
+template <class P>
+void finish_weights(const P& p, const std::vector<face<P::dim>>& faces, bool laplace, bool any_facet,
+                    const accumulators& acc, std::vector<candidate>& out) {
   out.clear();
-  acc.clear();
-  for (std::size_t j = 0; j < size; ++j) {
-    const label_t o = owner[j];
-    if (o < 0) continue;
-    acc.touch(o);
-    ++acc.volume[o];
-  }
-  bool any_facet = false;
-  if (laplace) {
-    const T* dist = d.distance.data();
-    const label_t* lab = d.label.data();
-    for (std::size_t j = 0; j < size; ++j) {
-      const index_t v = cell[j];
-      const auto c = p.geometry.coords(v);
-      const T fv = p.field[v];
-      for (const auto& f : faces) {
-        if (!face_in_grid(p, c, f)) continue;
-        const index_t w = v + f.delta;
-        if (!p.inside(w)) continue;
-        const label_t k = lab[w];
-        if (k == no_label) continue;
-        if (in_sorted_cell(cell, size, j, f.delta, w)) continue;
-        acc.touch(k);
-        ++acc.faces[k][f.axis];
-        any_facet = true;
-        const T cvw = p.metric(p.edges.length[f.edge], fv, p.field[w]);
-        T h = dq[j] + cvw;
-        h = h + dist[w];
-        if (double(h) < acc.h[k]) acc.h[k] = double(h);
-      }
-    }
-  }
   if (laplace && any_facet) {
     double area[3] = {0, 0, 0};
     for (const auto& f : faces) area[f.axis] = f.area;
@@ -118,6 +68,61 @@ void query_weights(const P& p, const D& d, const std::vector<face<P::dim>>& face
   }
 }
 
+/// Fills the accumulators of one query from its new cell as a backend returns it (voxels sorted,
+/// their query distances and owners); returns whether the cell has a facet pair.
+template <class P, class D>
+bool accumulate_cell(const P& p, const D& d, const std::vector<face<P::dim>>& faces, bool laplace,
+                     const index_t* cell, const typename P::value_type* dq, const label_t* owner, std::size_t size,
+                     accumulators& acc) {
+  using T = typename P::value_type;
+  acc.clear();
+  for (std::size_t j = 0; j < size; ++j) {
+    const label_t o = owner[j];
+    if (o < 0) continue;
+    acc.touch(o);
+    ++acc.volume[o];
+  }
+  bool any_facet = false;
+  if (!laplace) return false;
+  const T* dist = d.distance.data();
+  const label_t* lab = d.label.data();
+  for (std::size_t j = 0; j < size; ++j) {
+    const index_t v = cell[j];
+    const auto c = p.geometry.coords(v);
+    const T fv = p.field[v];
+    for (const auto& f : faces) {
+      if (!face_in_grid(p, c, f)) continue;
+      const index_t w = v + f.delta;
+      if (!p.inside(w)) continue;
+      const label_t k = lab[w];
+      if (k == no_label) continue;
+      if (in_sorted_cell(cell, size, j, f.delta, w)) continue;
+      acc.touch(k);
+      ++acc.faces[k][f.axis];
+      any_facet = true;
+      const T cvw = p.metric(p.edges.length[f.edge], fv, p.field[w]);
+      T h = dq[j] + cvw;
+      h = h + dist[w];
+      if (double(h) < acc.h[k]) acc.h[k] = double(h);
+    }
+  }
+  return any_facet;
+}
+
+/// Per-worker scratch of the query loops.
+template <class T>
+struct query_scratch {
+  accumulators acc;
+  std::vector<candidate> cand;
+  std::vector<unsigned char> mask;
+  std::vector<cell_member<T>> members;
+  explicit query_scratch(std::size_t nodes) : acc(nodes) {}
+};
+
+/// Queries per task of the host-parallel loops: enough to amortise a task's scratch, few enough to
+/// balance cells of very different sizes.
+inline constexpr std::size_t queries_per_task = 64;
+
 template <class Policy, class P, class D, class W, class Options>
 void natural_neighbours(const Policy& policy, const P& p, const D& d, const Options& opt, bool laplace, W& w) {
   using T = typename P::value_type;
@@ -135,28 +140,57 @@ void natural_neighbours(const Policy& policy, const P& p, const D& d, const Opti
       w.weight[std::size_t(v) * k] = T(1);
     }
   }
-  accumulators acc(w.nodes);
-  std::vector<candidate> cand;
-  std::vector<index_t> batch;
   const std::size_t total = queries.size();
-  for (std::size_t start = 0; start < total; start += opt.batch_size) {
-    const std::size_t end = std::min(total, start + opt.batch_size);
-    batch.assign(queries.begin() + std::ptrdiff_t(start), queries.begin() + std::ptrdiff_t(end));
-    const auto cells = insert_queries(policy, p, d, batch);
-    for (std::size_t i = 0; i < cells.size(); ++i) {
-      const std::size_t b = cells.offsets[i], sz = cells.cell_size(i);
-      const index_t q = cells.query[i];
-      const std::size_t at = std::size_t(q) * std::size_t(k);
-      if (sz == 0) {  // defensive: only a voxel at distance 0 has an empty cell
-        w.node[at] = d.label[q];
-        w.weight[at] = T(1);
-        continue;
-      }
-      query_weights(p, d, faces, laplace, cells.voxel.data() + b, cells.distance.data() + b,
-                    cells.owner.data() + b, sz, acc, cand);
-      store(cand, k, w.node.data() + at, w.weight.data() + at);
+  auto write = [&](index_t q, query_scratch<T>& s, bool any_facet) {
+    finish_weights(p, faces, laplace, any_facet, s.acc, s.cand);
+    const std::size_t at = std::size_t(q) * std::size_t(k);
+    if (s.cand.empty()) {  // defensive: only a voxel at distance 0 has an empty cell
+      w.node[at] = d.label[q];
+      w.weight[at] = T(1);
+      return;
     }
-    report(opt.progress, double(end) / double(total));
+    store(s.cand, k, w.node.data() + at, w.weight.data() + at);
+  };
+  // Each task owns its scratch and writes only its queries' slots.
+  auto tasks = [](std::size_t count) { return index_t((count + queries_per_task - 1) / queries_per_task); };
+
+  if (translation_invariant(p)) {
+    // exact shortcut (translation_invariant.hpp): one backend solve, then every query is a box scan
+    const offset_table<P> tab(policy, p);
+    for (std::size_t start = 0; start < total; start += opt.batch_size) {
+      const std::size_t end = std::min(total, start + opt.batch_size);
+      host_parallel_for(policy, tasks(end - start), [&](index_t t) {
+        query_scratch<T> s(w.nodes);
+        const std::size_t b = start + std::size_t(t) * queries_per_task;
+        const std::size_t e = std::min(end, b + queries_per_task);
+        for (std::size_t i = b; i < e; ++i) {
+          bool any_facet = false;
+          accumulate_offset(tab, d, faces, laplace, queries[i], s.acc, s.mask, s.members, any_facet);
+          write(queries[i], s, any_facet);
+        }
+      });
+      report(opt.progress, double(end) / double(total));
+    }
+  } else {
+    std::vector<index_t> batch;
+    for (std::size_t start = 0; start < total; start += opt.batch_size) {
+      const std::size_t end = std::min(total, start + opt.batch_size);
+      batch.assign(queries.begin() + std::ptrdiff_t(start), queries.begin() + std::ptrdiff_t(end));
+      const auto cells = insert_queries(policy, p, d, batch);
+      host_parallel_for(policy, tasks(cells.size()), [&](index_t t) {
+        query_scratch<T> s(w.nodes);
+        const std::size_t b = std::size_t(t) * queries_per_task;
+        const std::size_t e = std::min(cells.size(), b + queries_per_task);
+        for (std::size_t i = b; i < e; ++i) {
+          const std::size_t o = cells.offsets[i];
+          const bool any_facet = accumulate_cell(p, d, faces, laplace, cells.voxel.data() + o,
+                                                 cells.distance.data() + o, cells.owner.data() + o,
+                                                 cells.cell_size(i), s.acc);
+          write(cells.query[i], s, any_facet);
+        }
+      });
+      report(opt.progress, double(end) / double(total));
+    }
   }
   if (total == 0) report(opt.progress, 1.0);
 }
