@@ -115,7 +115,7 @@ struct query_scratch {
   accumulators acc;
   std::vector<candidate> cand;
   std::vector<unsigned char> mask;
-  std::vector<cell_member<T>> members;
+  cell_members<T> members;
   explicit query_scratch(std::size_t nodes) : acc(nodes) {}
 };
 

@@ -226,17 +226,21 @@ class offset_table {
  * accumulate_cell() does from a backend's new cell (same sets, same arithmetic). @p mask and @p members
  * are scratch.
  */
-/// A member of a new cell during the Laplace pass: padded-mask index, voxel, distance from the query.
+/// The members of a new cell during the Laplace pass, as parallel arrays (padded-mask index, voxel,
+/// distance from the query); sized up, never down, so a worker allocates once.
 template <class T>
-struct cell_member {
-  index_t i, v;
-  T dq;
+struct cell_members {
+  std::vector<index_t> i, v;
+  std::vector<T> dq;
+  void ensure(std::size_t n) {
+    if (i.size() < n) i.resize(n), v.resize(n), dq.resize(n);
+  }
 };
 
 template <class P, class D>
 void accumulate_offset(const offset_table<P>& tab, const D& d, const std::vector<face<P::dim>>& faces, bool laplace,
                        index_t q, accumulators& acc, std::vector<unsigned char>& mask,
-                       std::vector<cell_member<typename P::value_type>>& members, bool& any_facet) {
+                       cell_members<typename P::value_type>& members, bool& any_facet) {
   using T = typename P::value_type;
   const P& p = tab.problem();
   const T* dist = d.distance.data();
@@ -275,7 +279,11 @@ void accumulate_offset(const offset_table<P>& tab, const D& d, const std::vector
         for (index_t y = lo[1]; y <= hi[1]; ++y)
           for (index_t x = lo[0]; x <= hi[0]; ++x) mask[std::size_t(x + sy * y + sz * z)] = 2;
     }
-  members.clear();
+  members.ensure(std::size_t(b.size()));
+  index_t* mi = members.i.data();
+  index_t* mv = members.v.data();
+  T* mdq = members.dq.data();
+  std::size_t count = 0;
   for (index_t z = b.lo[2]; z <= b.hi[2]; ++z)
     for (index_t y = b.lo[1]; y <= b.hi[1]; ++y) {
       const T* trow = tab.row(y, z, qc);
@@ -286,7 +294,7 @@ void accumulate_offset(const offset_table<P>& tab, const D& d, const std::vector
         const index_t v = base + x;
         if (!(dq < dist[v])) continue;
         mask[std::size_t(mrow + x)] = 1;
-        members.push_back({mrow + x, v, dq});
+        mi[count] = mrow + x, mv[count] = v, mdq[count] = dq, ++count;
         const label_t o = lab[v];
         if (o >= 0) acc.touch(o), ++acc.volume[o];
       }
@@ -301,19 +309,19 @@ void accumulate_offset(const offset_table<P>& tab, const D& d, const std::vector
     mstep[j] = faces[j].dir * pstride[faces[j].axis];
   }
   const unsigned char* m = mask.data();
-  for (const auto& mb : members) {
-    const index_t i = mb.i;
+  for (std::size_t j0 = 0; j0 < count; ++j0) {
+    const index_t i = mi[j0];
     if (m[i - 1] && m[i + 1] && m[i - sy] && m[i + sy] && m[i - sz] && m[i + sz]) continue;  // interior
     for (std::size_t j = 0; j < faces.size(); ++j) {
       if (m[i + mstep[j]] != 0) continue;
       const auto& f = faces[j];
-      const index_t w = mb.v + f.delta;
+      const index_t w = mv[j0] + f.delta;
       const label_t k = lab[w];
       if (k == no_label) continue;
       acc.touch(k);
       ++acc.faces[k][f.axis];
       any_facet = true;
-      T h = mb.dq + cface[j];
+      T h = mdq[j0] + cface[j];
       h = h + dist[w];
       if (double(h) < acc.h[k]) acc.h[k] = double(h);
     }
