@@ -3,12 +3,14 @@
 // the node's own distance over its support and the distance to its cell's frontier.
 
 #include <geovoronoi/detail/shape/common.hpp>
+#include <geovoronoi/detail/shape/host_parallel.hpp>
 #include <geovoronoi/detail/shape/translation_invariant.hpp>
 #include <geovoronoi/voronoi.hpp>
 
 #include <algorithm>
 #include <limits>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace geovoronoi::detail::shape {
@@ -65,74 +67,88 @@ void distance_ratio(const Policy& policy, const P& p, const D& d, const Options&
   if (translation_invariant(p)) tab.emplace(policy, p);
 
   std::vector<double> raw(std::size_t(n) * std::size_t(k), 0.0);
-  std::vector<source<T>> frontier;
-  for (label_t i = 0; i < nodes; ++i) {
-    const index_t* cell = members.data() + start[std::size_t(i)];
-    const std::size_t cell_size = start[std::size_t(i) + 1] - start[std::size_t(i)];
-    // 1. bound: the largest distance over the cell and its face neighbours in other cells
-    T dmax = T(0);
-    for (std::size_t j = 0; j < cell_size; ++j) {
-      const index_t x = cell[j];
-      dmax = std::max(dmax, dist[x]);
-      const auto c = p.geometry.coords(x);
-      for (const auto& f : faces) {
-        if (!face_in_grid(p, c, f)) continue;
-        const index_t y = x + f.delta;
-        if (lab[y] != no_label && lab[y] != i) dmax = std::max(dmax, dist[y]);
+  // Nodes are processed in groups: the group's searches run as parallel host tasks when the backend
+  // offers them (each task's backend calls then run on its thread), each producing its node's
+  // (voxel, raw weight) list; the lists are merged into the slots in node order, so the result does
+  // not depend on the grouping or the thread count.
+  constexpr label_t group = 8;
+  std::vector<std::vector<std::pair<index_t, double>>> contrib(static_cast<std::size_t>(group));
+  for (label_t g0 = 0; g0 < nodes; g0 += group) {
+    const label_t g1 = std::min<label_t>(nodes, g0 + group);
+    host_parallel_for(policy, index_t(g1 - g0), [&](index_t t) {
+      const label_t i = g0 + label_t(t);
+      auto& out = contrib[std::size_t(t)];
+      out.clear();
+      std::vector<source<T>> frontier;
+      const index_t* cell = members.data() + start[std::size_t(i)];
+      const std::size_t cell_size = start[std::size_t(i) + 1] - start[std::size_t(i)];
+      // 1. bound: the largest distance over the cell and its face neighbours in other cells
+      T dmax = T(0);
+      for (std::size_t j = 0; j < cell_size; ++j) {
+        const index_t x = cell[j];
+        dmax = std::max(dmax, dist[x]);
+        const auto c = p.geometry.coords(x);
+        for (const auto& f : faces) {
+          if (!face_in_grid(p, c, f)) continue;
+          const index_t y = x + f.delta;
+          if (lab[y] != no_label && lab[y] != i) dmax = std::max(dmax, dist[y]);
+        }
       }
-    }
-    const index_t node_voxel = d.seeds[std::size_t(i)];
-    if (!(dmax > T(0))) {  // an isolated one-voxel cell: only the node itself
-      insert_slot(w.node.data() + std::size_t(node_voxel) * k, raw.data() + std::size_t(node_voxel) * k, k, i, 1.0);
-      report(opt.progress, double(i + 1) / double(nodes));
-      continue;
-    }
-    // 2. the node's own distance over its support d_i < 2 dmax
-    const T radius = T(2) * dmax;
-    const auto di = tab ? tab->ball(node_voxel, radius)
-                        : bounded_solve(policy, p, std::vector<source<T>>{{node_voxel, T(0), 0}}, radius);
-    auto di_at = [&](index_t v) -> T {
-      const auto it = std::lower_bound(di.voxel.begin(), di.voxel.end(), v);
-      return (it != di.voxel.end() && *it == v) ? di.distance[std::size_t(it - di.voxel.begin())]
-                                                : std::numeric_limits<T>::infinity();
-    };
-    // 3. distance to the frontier: sources on both sides of every face between cell i and a cell j,
-    //    at their distance to the point where d_i = d_j along the path i -> x -> y -> j
-    frontier.clear();
-    for (std::size_t j = 0; j < cell_size; ++j) {
-      const index_t x = cell[j];
-      const auto c = p.geometry.coords(x);
-      for (const auto& f : faces) {
-        if (!face_in_grid(p, c, f)) continue;
-        const index_t y = x + f.delta;
-        if (lab[y] == no_label || lab[y] == i) continue;
-        const T diy = di_at(y);
-        if (!(diy < std::numeric_limits<T>::infinity())) continue;
-        const T dby = T(0.5) * (diy - dist[y]);
-        const T mid = T(0.5) * (dist[y] + diy);
-        const T dbx = std::max(T(0), mid - dist[x]);
-        if (dby < dmax) frontier.push_back({y, dby, 0});
-        if (dbx < dmax) frontier.push_back({x, dbx, 0});
+      const index_t node_voxel = d.seeds[std::size_t(i)];
+      if (!(dmax > T(0))) {  // an isolated one-voxel cell: only the node itself
+        out.push_back({node_voxel, 1.0});
+        return;
       }
-    }
-    std::sort(frontier.begin(), frontier.end(), [](const source<T>& a, const source<T>& b) {
-      return a.voxel < b.voxel || (a.voxel == b.voxel && a.distance < b.distance);
+      // 2. the node's own distance over its support d_i < 2 dmax
+      const T radius = T(2) * dmax;
+      const auto di = tab ? tab->ball(node_voxel, radius)
+                          : bounded_solve(policy, p, std::vector<source<T>>{{node_voxel, T(0), 0}}, radius);
+      auto di_at = [&](index_t v) -> T {
+        const auto it = std::lower_bound(di.voxel.begin(), di.voxel.end(), v);
+        return (it != di.voxel.end() && *it == v) ? di.distance[std::size_t(it - di.voxel.begin())]
+                                                  : std::numeric_limits<T>::infinity();
+      };
+      // 3. distance to the frontier: sources on both sides of every face between cell i and a cell j,
+      //    at their distance to the point where d_i = d_j along the path i -> x -> y -> j
+      for (std::size_t j = 0; j < cell_size; ++j) {
+        const index_t x = cell[j];
+        const auto c = p.geometry.coords(x);
+        for (const auto& f : faces) {
+          if (!face_in_grid(p, c, f)) continue;
+          const index_t y = x + f.delta;
+          if (lab[y] == no_label || lab[y] == i) continue;
+          const T diy = di_at(y);
+          if (!(diy < std::numeric_limits<T>::infinity())) continue;
+          const T dby = T(0.5) * (diy - dist[y]);
+          const T mid = T(0.5) * (dist[y] + diy);
+          const T dbx = std::max(T(0), mid - dist[x]);
+          if (dby < dmax) frontier.push_back({y, dby, 0});
+          if (dbx < dmax) frontier.push_back({x, dbx, 0});
+        }
+      }
+      std::sort(frontier.begin(), frontier.end(), [](const source<T>& a, const source<T>& b) {
+        return a.voxel < b.voxel || (a.voxel == b.voxel && a.distance < b.distance);
+      });
+      frontier.erase(std::unique(frontier.begin(), frontier.end(),
+                                 [](const source<T>& a, const source<T>& b) { return a.voxel == b.voxel; }),
+                     frontier.end());
+      sparse_solution<T> db;
+      if (!frontier.empty()) db = bounded_solve(policy, p, frontier, dmax);  // d_B is capped at dmax
+      // 4. raw weights over the support, merged with d_B (both sorted by voxel)
+      std::size_t b = 0;
+      for (std::size_t j = 0; j < di.size(); ++j) {
+        const index_t x = di.voxel[j];
+        while (b < db.size() && db.voxel[b] < x) ++b;
+        const T dbx = (b < db.size() && db.voxel[b] == x) ? db.distance[b] : dmax;
+        const double wx = distance_ratio_weight(double(di.distance[j]), double(dbx), lab[x] == i);
+        if (wx > 0) out.push_back({x, wx});
+      }
     });
-    frontier.erase(std::unique(frontier.begin(), frontier.end(),
-                               [](const source<T>& a, const source<T>& b) { return a.voxel == b.voxel; }),
-                   frontier.end());
-    sparse_solution<T> db;
-    if (!frontier.empty()) db = bounded_solve(policy, p, frontier, dmax);  // d_B is capped at dmax
-    // 4. raw weights over the support, merged with d_B (both sorted by voxel)
-    std::size_t b = 0;
-    for (std::size_t j = 0; j < di.size(); ++j) {
-      const index_t x = di.voxel[j];
-      while (b < db.size() && db.voxel[b] < x) ++b;
-      const T dbx = (b < db.size() && db.voxel[b] == x) ? db.distance[b] : dmax;
-      const double wx = distance_ratio_weight(double(di.distance[j]), double(dbx), lab[x] == i);
-      if (wx > 0) insert_slot(w.node.data() + std::size_t(x) * k, raw.data() + std::size_t(x) * k, k, i, wx);
+    for (label_t i = g0; i < g1; ++i) {
+      for (const auto& [x, wx] : contrib[std::size_t(i - g0)])
+        insert_slot(w.node.data() + std::size_t(x) * k, raw.data() + std::size_t(x) * k, k, i, wx);
+      report(opt.progress, double(i + 1) / double(nodes));
     }
-    report(opt.progress, double(i + 1) / double(nodes));
   }
   // 5. normalise the kept weights of every reached voxel
   std::vector<candidate> cand;
