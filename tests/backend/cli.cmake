@@ -20,6 +20,9 @@ endif()
 if(GEOVORONOI_BUILD_TOOLS AND EXISTS ${PROJECT_SOURCE_DIR}/examples/CMakeLists.txt)
   add_test(NAME cli_end_to_end
     COMMAND ${CMAKE_COMMAND} -DGEOVORONOI=$<TARGET_FILE:geovoronoi_tool> -DWORK=${CMAKE_CURRENT_BINARY_DIR}/cli-work
+            # the backends compiled into the tool, as examples/CMakeLists.txt decides (evaluated at
+            # generation time, when the examples' targets exist)
+            "-DBUILT=seq$<$<TARGET_EXISTS:geovoronoi_thrust_omp>:,thrust>$<$<TARGET_EXISTS:geovoronoi_tool_cuda>:,cuda>"
             -P ${CMAKE_CURRENT_LIST_DIR}/../cli/run_cli.cmake)
   set_tests_properties(cli_end_to_end PROPERTIES LABELS cli)
 endif()
