@@ -86,7 +86,8 @@ const std::string& cuda_problem() {
 /// The default backend, the fastest one built that can run here (docs/cli.md): cuda when it is
 /// built and a CUDA device answers, else seq. The Thrust backend is never the default: the tool
 /// builds it on OpenMP host threads, where it measured slower than the sequential Dijkstra
-/// (docs/benchmarks.md: 414 ms vs 316 ms on 128^3 with 2 threads; 1.5 s vs 0.04 s on the demo).
+/// (docs/benchmarks.md: 414 ms vs 316 ms on 128^3 with 2 threads; the whole `voronoi` command on the
+/// demo's steak, reading and writing included: 0.41-1.57 s vs 0.14-0.19 s, shared 2-core machine).
 std::string default_backend() {
   if (GV_CLI_HAVE_CUDA && cuda_problem().empty()) return "cuda";
   return "seq";
