@@ -7,15 +7,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 out="${1:-demo-out}"
 
-packages=(cmake g++ make libeigen3-dev libpng-dev zlib1g-dev doctest-dev libbenchmark-dev)
-missing=()
-for p in "${packages[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
-if ((${#missing[@]})); then
-  echo "== installing: ${missing[*]}"
-  sudo=""; [ "$(id -u)" -ne 0 ] && sudo="sudo"
-  $sudo apt-get update -q
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
-fi
+source scripts/lib/packages.sh
+ensure_packages cmake g++ make libeigen3-dev libpng-dev zlib1g-dev doctest-dev libbenchmark-dev
 
 echo "== building the geovoronoi tool (build-demo/, Release)"
 cmake -S . -B build-demo -DCMAKE_BUILD_TYPE=Release -DGEOVORONOI_BUILD_TESTS=OFF -DGEOVORONOI_BUILD_BENCH=OFF \

@@ -5,15 +5,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(cmake g++ make libeigen3-dev doctest-dev libbenchmark-dev libpng-dev zlib1g-dev libtbb-dev libomp-dev clang)
-missing=()
-for p in "${packages[@]}"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
-if ((${#missing[@]})); then
-  echo "== installing: ${missing[*]}"
-  sudo=""; [ "$(id -u)" -ne 0 ] && sudo="sudo"
-  $sudo apt-get update -q
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends "${missing[@]}"
-fi
+source scripts/lib/packages.sh
+ensure_packages cmake g++ make libeigen3-dev doctest-dev libbenchmark-dev libpng-dev zlib1g-dev libtbb-dev libomp-dev clang
 
 jobs=$(nproc)
 start=$SECONDS

@@ -2,6 +2,8 @@
 // Plumbing of the geovoronoi command-line tool: argument parsing, bad-input errors, seed files,
 // the progress bar, and the temporary output folder that is renamed into place only when complete.
 
+#include "solve.hpp"  // usage_error
+
 #include <geovoronoi/io/common.hpp>
 
 #include <atomic>
@@ -21,11 +23,6 @@ namespace gvcli {
 
 namespace fs = std::filesystem;
 using geovoronoi::index_t;
-
-/// Bad input from the user: one line on stderr, exit code 2.
-struct usage_error : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 /// Parsed command line: --name value pairs, flags without a value, and which were given.
 class arguments {

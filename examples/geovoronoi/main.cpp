@@ -5,10 +5,12 @@
 //   geovoronoi shape-functions --stiffness F --seeds S.csv --method distance-ratio|sibson|laplace
 //                      [--nodes-per-voxel K] [same options] --out DIR
 //   geovoronoi demo [--out DIR] [--backend B]
+//   geovoronoi backends
 //
 // Exit codes: 0 success, 2 bad input (one line on stderr naming the problem), 1 anything else.
 
 #include "cli.hpp"
+#include "solve.hpp"
 
 #include <geovoronoi.hpp>
 #include <geovoronoi/io/png.hpp>
@@ -21,11 +23,18 @@
 #else
 #define GV_CLI_HAVE_THRUST 0
 #endif
+// The CUDA backend lives in cuda.cu (nvcc); this file only calls the functions declared in solve.hpp.
+#if defined(GEOVORONOI_CLI_CUDA)
+#define GV_CLI_HAVE_CUDA 1
+#else
+#define GV_CLI_HAVE_CUDA 0
+#endif
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <thread>
 
 namespace gv = geovoronoi;
 namespace gio = geovoronoi::io;
@@ -41,15 +50,21 @@ const char* const usage_text =
     "  geovoronoi shape-functions --stiffness F --seeds S.csv --method distance-ratio|sibson|laplace\n"
     "                     [--nodes-per-voxel K] [same options] --out DIR\n"
     "  geovoronoi demo [--out DIR] [--backend B]\n"
+    "  geovoronoi backends      (which backends this binary has, and the default)\n"
     "F: .mhd, .mha, .npy, or .pgm/.ppm (with --extrude N for N slices). S.csv: one seed per line, i,j,k.\n";
 
-/// Backends compiled into this binary, fastest first. The Thrust backend is built on OpenMP host
-/// threads here; on the demo's steak (393k voxels, 12 seeds) the sequential Dijkstra measured faster
-/// (0.04 s vs 1.5 s for the diagram on a shared 2-core machine), so seq stays the default.
+/// The backends this tool knows, in the order they are listed.
+const char* const known_backends[] = {"seq", "thrust", "cuda"};
+
+bool is_built(const std::string& b) {
+  return b == "seq" || (b == "thrust" && GV_CLI_HAVE_THRUST) || (b == "cuda" && GV_CLI_HAVE_CUDA);
+}
+
 std::vector<std::string> built_backends() {
-  std::vector<std::string> b{"seq"};
-  if (GV_CLI_HAVE_THRUST) b.push_back("thrust");
-  return b;
+  std::vector<std::string> v;
+  for (const char* b : known_backends)
+    if (is_built(b)) v.push_back(b);
+  return v;
 }
 
 std::string join(const std::vector<std::string>& v) {
@@ -58,51 +73,66 @@ std::string join(const std::vector<std::string>& v) {
   return s;
 }
 
-std::string pick_backend(const gvcli::arguments& a) {
-  const auto built = built_backends();
-  if (!a.has("--backend")) return built.front();
-  const std::string b = a.get("--backend");
-  if (b != "seq" && b != "thrust" && b != "cuda")
-    throw usage_error("unknown backend '" + b + "' (seq, thrust or cuda)");
-  for (const auto& x : built)
-    if (x == b) return b;
-  throw usage_error("backend '" + b + "' is not built into this geovoronoi (available: " + join(built) + ")");
-}
-
-template <class F>
-void with_backend(const std::string& name, F&& f) {
-#if GV_CLI_HAVE_THRUST
-  if (name == "thrust") return f(gv::thrust::par);
+/// Why the CUDA backend cannot run here (empty when it can); asks the CUDA runtime once.
+const std::string& cuda_problem() {
+#if GV_CLI_HAVE_CUDA
+  static const std::string why = gvcli::cuda_unavailable_reason();
+#else
+  static const std::string why = "not built into this geovoronoi";
 #endif
-  if (name == "seq") return f(gv::seq);
-  throw usage_error("backend '" + name + "' is not built into this geovoronoi");
+  return why;
 }
 
-template <class F>
-void with_metric(const std::string& name, F&& f) {
-  if (name == "min_stiffness") return f(gv::min_stiffness{});
-  if (name == "mean_stiffness") return f(gv::mean_stiffness{});
-  if (name == "mean_cost") return f(gv::mean_cost{});
-  if (name == "uniform") return f(gv::uniform{});
-  throw usage_error("unknown metric '" + name + "' (min_stiffness, mean_stiffness, mean_cost or uniform)");
+/// The default backend, the fastest one built that can run here (docs/cli.md): cuda when it is
+/// built and a CUDA device answers, else seq. The Thrust backend is never the default: the tool
+/// builds it on OpenMP host threads, where it measured slower than the sequential Dijkstra
+/// (docs/benchmarks.md: 414 ms vs 316 ms on 128^3 with 2 threads; the whole `voronoi` command on the
+/// demo's steak, reading and writing included: 0.41-1.57 s vs 0.14-0.19 s, shared 2-core machine).
+std::string default_backend() {
+  if (GV_CLI_HAVE_CUDA && cuda_problem().empty()) return "cuda";
+  return "seq";
 }
 
-template <class F>
-void with_connectivity(int n, F&& f) {
-  if (n == 6) return f(gv::connectivity<6>{});
-  if (n == 18) return f(gv::connectivity<18>{});
-  if (n == 26) return f(gv::connectivity<26>{});
-  throw usage_error("connectivity must be 6, 18 or 26, got " + std::to_string(n));
+std::string pick_backend(const gvcli::arguments& a) {
+  if (!a.has("--backend")) return default_backend();
+  const std::string b = a.get("--backend");
+  bool known = false;
+  for (const char* k : known_backends) known = known || b == k;
+  if (!known) throw usage_error("unknown backend '" + b + "' (seq, thrust or cuda)");
+  if (!is_built(b))
+    throw usage_error("backend '" + b + "' is not built into this geovoronoi (built: " + join(built_backends()) + ")");
+  if (b == "cuda" && !cuda_problem().empty()) throw usage_error("backend 'cuda': " + cuda_problem());
+  return b;
 }
 
-template <class Metric>
-bool inside(float v) {
-  return gv::detail::inside<Metric>(v);
+/// The Voronoi diagram of @p s on the backend named @p backend (one of built_backends()).
+gv::diagram<float, 3> run_voronoi(const std::string& backend, const gvcli::problem_spec& s) {
+#if GV_CLI_HAVE_CUDA
+  if (backend == "cuda") return gvcli::cuda_voronoi(s);
+#endif
+#if GV_CLI_HAVE_THRUST
+  if (backend == "thrust") return gvcli::solve_voronoi(gv::thrust::par, s);
+#endif
+  if (backend == "seq") return gvcli::solve_voronoi(gv::seq, s);
+  throw usage_error("backend '" + backend + "' is not built into this geovoronoi");
+}
+
+/// The shape functions of @p s (diagram @p d) on the backend named @p backend.
+gv::shape_weights<float, 3> run_shape(const std::string& backend, const gvcli::problem_spec& s,
+                                      const gv::diagram<float, 3>& d, const gv::shape_options& opt) {
+#if GV_CLI_HAVE_CUDA
+  if (backend == "cuda") return gvcli::cuda_shape(s, d, opt);
+#endif
+#if GV_CLI_HAVE_THRUST
+  if (backend == "thrust") return gvcli::solve_shape(gv::thrust::par, s, d, opt);
+#endif
+  if (backend == "seq") return gvcli::solve_shape(gv::seq, s, d, opt);
+  throw usage_error("backend '" + backend + "' is not built into this geovoronoi");
 }
 
 bool inside_by_name(const std::string& metric, float v) {
   bool r = false;
-  with_metric(metric, [&](auto m) { r = inside<decltype(m)>(v); });
+  gvcli::with_metric(metric, [&](auto m) { r = gv::detail::inside<decltype(m)>(v); });
   return r;
 }
 
@@ -112,6 +142,7 @@ struct job {
   int connectivity = 26;
   gv::image<float, 3> field;
   std::vector<gv::coord<3>> seeds;
+  gvcli::problem_spec spec() const { return {field, seeds, metric, connectivity}; }
 };
 
 job load_job(const gvcli::arguments& a) {
@@ -120,9 +151,9 @@ job load_job(const gvcli::arguments& a) {
   const std::string seeds_path = a.require("--seeds");
   j.out = a.require("--out");
   j.metric = a.get("--metric", "min_stiffness");
-  with_metric(j.metric, [](auto) {});
+  gvcli::with_metric(j.metric, [](auto) {});
   j.connectivity = int(a.integer("--connectivity", 26, 0, 1000));
-  with_connectivity(j.connectivity, [](auto) {});
+  gvcli::with_connectivity(j.connectivity, [](auto) {});
   j.backend = pick_backend(a);
   const std::string ext = gio::detail::extension(j.stiffness_path);
   const bool picture = ext == ".pgm" || ext == ".ppm" || ext == ".pnm";
@@ -190,7 +221,7 @@ void write_voronoi(const gvcli::output_dir& out, const gv::diagram<float, 3>& d,
 
 /// indices.mhd, weights.mhd (K planar channels, SOFA layout), weights_*.npy (CSR), weight_node<i>.png.
 void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, const gv::diagram<float, 3>& d,
-                 const gv::image<float, 3>& field, int png_node) {
+                 int png_node) {
   const auto& g = w.geometry;
   const std::size_t n = std::size_t(g.size()), k = std::size_t(w.k);
   auto idx = planar_volume<std::uint32_t>(g, w.k);
@@ -220,7 +251,6 @@ void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, c
       if (w.node[v * k + s] == png_node) one[index_t(v)] = float(w.weight[v * k + s]);
   const index_t node_voxel = png_node >= 0 && std::size_t(png_node) < d.seeds.size() ? d.seeds[std::size_t(png_node)] : -1;
   gio::write_png(dir + "/weight_node" + std::to_string(png_node) + ".png", gio::weight_montage(one, node_voxel));
-  (void)field;
 }
 
 gv::shape_method parse_method(const std::string& m) {
@@ -241,61 +271,67 @@ void summary(const char* what, const gv::grid<3>& g, std::size_t seeds, const st
   std::fflush(stdout);
 }
 
-int cmd_voronoi(const std::vector<std::string>& args) {
-  gvcli::arguments a(args, {"--stiffness", "--seeds", "--metric", "--connectivity", "--backend", "--out", "--extrude"},
-                     {"--world"});
-  gvcli::progress_bar bar("geovoronoi voronoi");
+/// The options of voronoi; shape-functions adds its own.
+std::set<std::string> solve_options(std::set<std::string> extra = {}) {
+  extra.insert({"--stiffness", "--seeds", "--metric", "--connectivity", "--backend", "--out", "--extrude"});
+  return extra;
+}
+
+/// What voronoi and shape-functions share: load and check the job, solve the diagram, write the
+/// voronoi outputs, then `more(job, diagram, out, bar)` (the shape functions), commit, summary line.
+template <class More>
+int solve_and_write(const char* command, const gvcli::arguments& a, More&& more) {
+  gvcli::progress_bar bar(std::string("geovoronoi ") + command);
   bar.update("reading");
-  job j = load_job(a);
+  const job j = load_job(a);
   gvcli::output_dir out(j.out);
-  with_backend(j.backend, [&](auto policy) {
-    with_metric(j.metric, [&](auto metric) {
-      with_connectivity(j.connectivity, [&](auto conn) {
-        bar.update("solving");
-        const auto p = gv::make_problem(j.field.geometry(), j.field, metric, conn);
-        const auto d = gv::voronoi(policy, p, j.seeds);
-        bar.update("writing");
-        write_voronoi(out, d, j.field);
-      });
-    });
-  });
+  bar.update("voronoi");
+  const auto d = run_voronoi(j.backend, j.spec());
+  bar.update("writing");
+  write_voronoi(out, d, j.field);
+  more(j, d, out, bar);
   out.commit();
   bar.finish();
-  summary("voronoi", j.field.geometry(), j.seeds.size(), j.backend, bar.seconds(), j.out);
+  summary(command, j.field.geometry(), j.seeds.size(), j.backend, bar.seconds(), j.out);
   return 0;
 }
 
+int cmd_voronoi(const std::vector<std::string>& args) {
+  const gvcli::arguments a(args, solve_options(), {"--world"});
+  return solve_and_write("voronoi", a, [](auto&&...) {});
+}
+
 int cmd_shape(const std::vector<std::string>& args) {
-  gvcli::arguments a(args, {"--stiffness", "--seeds", "--metric", "--connectivity", "--backend", "--out", "--extrude",
-                            "--method", "--nodes-per-voxel"},
-                     {"--world"});
+  const gvcli::arguments a(args, solve_options({"--method", "--nodes-per-voxel"}), {"--world"});
   const auto method = parse_method(a.require("--method"));
   const int k = int(a.integer("--nodes-per-voxel", 4, 1, 64));
-  gvcli::progress_bar bar("geovoronoi shape-functions");
-  bar.update("reading");
-  job j = load_job(a);
-  gvcli::output_dir out(j.out);
-  with_backend(j.backend, [&](auto policy) {
-    with_metric(j.metric, [&](auto metric) {
-      with_connectivity(j.connectivity, [&](auto conn) {
-        bar.update("voronoi");
-        const auto p = gv::make_problem(j.field.geometry(), j.field, metric, conn);
-        const auto d = gv::voronoi(policy, p, j.seeds);
-        bar.update(method_name(method), 0.0);
-        gv::shape_options opt;
-        opt.method = method;
-        opt.max_nodes_per_voxel = k;
-        opt.progress = [&](double f) { bar.set_fraction(f); return true; };
-        const auto w = gv::shape_functions(policy, p, d, opt);
-        bar.update("writing");
-        write_voronoi(out, d, j.field);
-        write_shape(out.subdir("."), w, d, j.field, 0);
-      });
-    });
-  });
-  out.commit();
-  bar.finish();
-  summary("shape-functions", j.field.geometry(), j.seeds.size(), j.backend, bar.seconds(), j.out);
+  return solve_and_write("shape-functions", a,
+                         [&](const job& j, const gv::diagram<float, 3>& d, gvcli::output_dir& out,
+                             gvcli::progress_bar& bar) {
+                           bar.update(method_name(method), 0.0);
+                           gv::shape_options opt;
+                           opt.method = method;
+                           opt.max_nodes_per_voxel = k;
+                           opt.progress = [&](double f) { bar.set_fraction(f); return true; };
+                           const auto w = run_shape(j.backend, j.spec(), d, opt);
+                           bar.update("writing");
+                           write_shape(out.subdir("."), w, d, 0);
+                         });
+}
+
+/// Lists the backends: whether each is built into this binary and can run here, and the default.
+int cmd_backends(const std::vector<std::string>& args) {
+  const gvcli::arguments a(args, {}, {});
+  for (const char* b : known_backends) {
+    std::string state = is_built(b) ? "built" : "not built";
+    if (std::string(b) == "seq") state += ", sequential Dijkstra";
+    if (std::string(b) == "thrust" && is_built(b))
+      state += ", OpenMP on " + std::to_string(std::thread::hardware_concurrency()) + " hardware threads";
+    if (std::string(b) == "cuda" && is_built(b))
+      state += cuda_problem().empty() ? ", device present" : ", unusable here: " + cuda_problem();
+    std::printf("%-7s %s\n", b, state.c_str());
+  }
+  std::printf("default %s\n", default_backend().c_str());
   return 0;
 }
 
@@ -335,47 +371,43 @@ int cmd_demo(const std::vector<std::string>& args) {
               (long long)g.extent(0), (long long)g.extent(1), (long long)g.extent(2), (long long)gh.extent(0),
               (long long)gh.extent(1), (long long)gh.extent(2), seeds.size(), backend.c_str());
   std::fflush(stdout);
-  with_backend(backend, [&](auto policy) {
-    const auto p = gv::make_problem(g, field, gv::min_stiffness{}, gv::connectivity<26>{});
-    bar.update("voronoi");
-    auto t0 = bar.seconds();
-    const auto d = gv::voronoi(policy, p, seeds);
-    std::printf("  voronoi          %7.2f s\n", bar.seconds() - t0);
-    write_voronoi(out, d, field);
-    // the same seeds under the uniform metric, to show what the stiffness changes
-    const auto pu = gv::make_problem(g, field, gv::uniform{}, gv::connectivity<26>{});
-    const auto du = gv::voronoi(policy, pu, seeds);
-    const auto uni = gio::label_montage(du.label, du.seeds, &field);
-    gio::write_png(out.file("labels_uniform.png"), uni);
-    // side by side: the XY mid-slice under the uniform metric (left) and under min_stiffness (right)
-    const auto stiff = gio::label_montage(d.label, d.seeds, &field);
-    const index_t panel_w = gio::first_panel_width(g, uni);
-    gio::write_png(out.file("labels_compare.png"),
-                   gio::hstack(gio::crop(uni, 0, 0, panel_w, uni.height), gio::crop(stiff, 0, 0, panel_w, stiff.height)));
-    auto shape = [&](const auto& prob, const auto& diag, gv::shape_method method, const auto& f) {
-      bar.update(method_name(method), 0.0);
-      t0 = bar.seconds();
-      gv::shape_options opt;
-      opt.method = method;
-      opt.max_nodes_per_voxel = 4;
-      opt.progress = [&](double x) { bar.set_fraction(x); return true; };
-      const auto w = gv::shape_functions(policy, prob, diag, opt);
-      std::printf("  %-16s %7.2f s (%lld voxels)\n", method_name(method), bar.seconds() - t0,
-                  (long long)prob.geometry.size());
-      std::fflush(stdout);
-      const std::string sub = out.subdir(method_name(method));
-      write_shape(sub, w, diag, f, 0);
-      if (method == gv::shape_method::sibson) {
-        gio::write_metaimage(sub + "/stiffness.mhd", f);
-        gio::write_metaimage(sub + "/label.mhd", diag.label);
-        gio::write_png(sub + "/labels.png", gio::label_montage(diag.label, diag.seeds, &f));
-      }
-    };
-    shape(p, d, gv::shape_method::distance_ratio, field);
-    const auto ph = gv::make_problem(gh, field_h, gv::min_stiffness{}, gv::connectivity<26>{});
-    const auto dh = gv::voronoi(policy, ph, seeds_h);
-    shape(ph, dh, gv::shape_method::sibson, field_h);
-  });
+  const gvcli::problem_spec p{field, seeds, "min_stiffness", 26};
+  bar.update("voronoi");
+  auto t0 = bar.seconds();
+  const auto d = run_voronoi(backend, p);
+  std::printf("  voronoi          %7.2f s\n", bar.seconds() - t0);
+  write_voronoi(out, d, field);
+  // the same seeds under the uniform metric, to show what the stiffness changes
+  const auto du = run_voronoi(backend, {field, seeds, "uniform", 26});
+  const auto uni = gio::label_montage(du.label, du.seeds, &field);
+  gio::write_png(out.file("labels_uniform.png"), uni);
+  // side by side: the XY mid-slice under the uniform metric (left) and under min_stiffness (right)
+  const auto stiff = gio::label_montage(d.label, d.seeds, &field);
+  const index_t panel_w = gio::first_panel_width(g, uni);
+  gio::write_png(out.file("labels_compare.png"),
+                 gio::hstack(gio::crop(uni, 0, 0, panel_w, uni.height), gio::crop(stiff, 0, 0, panel_w, stiff.height)));
+  auto shape = [&](const gvcli::problem_spec& prob, const gv::diagram<float, 3>& diag, gv::shape_method method) {
+    bar.update(method_name(method), 0.0);
+    t0 = bar.seconds();
+    gv::shape_options opt;
+    opt.method = method;
+    opt.max_nodes_per_voxel = 4;
+    opt.progress = [&](double x) { bar.set_fraction(x); return true; };
+    const auto w = run_shape(backend, prob, diag, opt);
+    std::printf("  %-16s %7.2f s (%lld voxels)\n", method_name(method), bar.seconds() - t0,
+                (long long)prob.field.geometry().size());
+    std::fflush(stdout);
+    const std::string sub = out.subdir(method_name(method));
+    write_shape(sub, w, diag, 0);
+    if (method == gv::shape_method::sibson) {
+      gio::write_metaimage(sub + "/stiffness.mhd", prob.field);
+      gio::write_metaimage(sub + "/label.mhd", diag.label);
+      gio::write_png(sub + "/labels.png", gio::label_montage(diag.label, diag.seeds, &prob.field));
+    }
+  };
+  shape(p, d, gv::shape_method::distance_ratio);
+  const gvcli::problem_spec ph{field_h, seeds_h, "min_stiffness", 26};
+  shape(ph, run_voronoi(backend, ph), gv::shape_method::sibson);
   bar.update("writing");
   out.commit();
   bar.finish();
@@ -391,7 +423,7 @@ int cmd_demo(const std::vector<std::string>& args) {
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   try {
-    if (args.empty()) throw usage_error("missing command (voronoi, shape-functions or demo; --help for usage)");
+    if (args.empty()) throw usage_error("missing command (voronoi, shape-functions, demo or backends; --help for usage)");
     const std::string cmd = args.front();
     args.erase(args.begin());
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
@@ -401,7 +433,8 @@ int main(int argc, char** argv) {
     if (cmd == "voronoi") return cmd_voronoi(args);
     if (cmd == "shape-functions") return cmd_shape(args);
     if (cmd == "demo") return cmd_demo(args);
-    throw usage_error("unknown command '" + cmd + "' (voronoi, shape-functions or demo; --help for usage)");
+    if (cmd == "backends") return cmd_backends(args);
+    throw usage_error("unknown command '" + cmd + "' (voronoi, shape-functions, demo or backends; --help for usage)");
   } catch (const usage_error& e) {
     std::fprintf(stderr, "geovoronoi: error: %s\n", e.what());
     return 2;

@@ -1,14 +1,8 @@
-# Hook of the I/O and command-line work (included by tests/backend/backends.cmake): links zlib and
-# libpng into the I/O tests, adds the command-line end-to-end tests, and the fuzz targets when the
-# compiler is clang (see scripts/test.sh, which builds them in build-fuzz/).
-find_package(ZLIB)
+# Hook of the I/O and command-line work (included by tests/backend/backends.cmake): links libpng
+# into the I/O tests, adds the command-line end-to-end tests, and the fuzz targets when the compiler
+# is clang (see scripts/test.sh, which builds them in build-fuzz/). zlib (compressed MetaImage data)
+# comes with geovoronoi::geovoronoi itself when the top-level CMakeLists.txt found it.
 find_package(PNG)
-foreach(t test_io_metaimage test_io_read)
-  if(TARGET ${t} AND ZLIB_FOUND)
-    target_link_libraries(${t} PRIVATE ZLIB::ZLIB)
-    target_compile_definitions(${t} PRIVATE GEOVORONOI_WITH_ZLIB=1)
-  endif()
-endforeach()
 if(TARGET test_io_png)
   if(PNG_FOUND)
     target_link_libraries(test_io_png PRIVATE PNG::PNG)
@@ -20,6 +14,9 @@ endif()
 if(GEOVORONOI_BUILD_TOOLS AND EXISTS ${PROJECT_SOURCE_DIR}/examples/CMakeLists.txt)
   add_test(NAME cli_end_to_end
     COMMAND ${CMAKE_COMMAND} -DGEOVORONOI=$<TARGET_FILE:geovoronoi_tool> -DWORK=${CMAKE_CURRENT_BINARY_DIR}/cli-work
+            # the backends compiled into the tool, as examples/CMakeLists.txt decides (evaluated at
+            # generation time, when the examples' targets exist)
+            "-DBUILT=seq$<$<TARGET_EXISTS:geovoronoi_thrust_omp>:,thrust>$<$<TARGET_EXISTS:geovoronoi_tool_cuda>:,cuda>"
             -P ${CMAKE_CURRENT_LIST_DIR}/../cli/run_cli.cmake)
   set_tests_properties(cli_end_to_end PROPERTIES LABELS cli)
 endif()
@@ -32,9 +29,5 @@ if(GEOVORONOI_FUZZ AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")
     target_link_libraries(fuzz_${f} PRIVATE geovoronoi::geovoronoi)
     target_compile_options(fuzz_${f} PRIVATE -fsanitize=fuzzer,address,undefined -g -O1)
     target_link_options(fuzz_${f} PRIVATE -fsanitize=fuzzer,address,undefined)
-    if(ZLIB_FOUND)
-      target_link_libraries(fuzz_${f} PRIVATE ZLIB::ZLIB)
-      target_compile_definitions(fuzz_${f} PRIVATE GEOVORONOI_WITH_ZLIB=1)
-    endif()
   endforeach()
 endif()

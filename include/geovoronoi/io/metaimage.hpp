@@ -9,8 +9,9 @@
 /// ElementSize, `spacing`, `scale3d`), Offset / Position / Origin / `translation`, Orientation /
 /// TransformMatrix / Rotation, ElementByteOrderMSB / BinaryDataByteOrderMSB, ElementNumberOfChannels,
 /// NDims up to 4 (a 4th dimension is read as planar channels) and CompressedData = True (zlib or gzip
-/// stream). Compressed data need zlib: define GEOVORONOI_WITH_ZLIB=1 and link zlib (the project's
-/// CMake targets do this when zlib is found); without it such files throw a clear io_error.
+/// stream). Compressed data need zlib: define GEOVORONOI_WITH_ZLIB=1 and link zlib (the CMake target
+/// geovoronoi::geovoronoi does both when zlib was found at configure time, see docs/io.md); without
+/// it such files throw a clear io_error.
 ///
 /// Several channels per voxel are stored interleaved by ITK and VTK, planar (one whole volume per
 /// channel) by SOFA; the header does not say which, so the caller chooses with channel_layout.

@@ -1,0 +1,36 @@
+// The geovoronoi tool's CUDA backend: the only translation unit that includes the CUDA headers
+// (built by nvcc when the geovoronoi::cuda target exists; see examples/CMakeLists.txt). It exposes
+// plain host functions (solve.hpp) so main.cpp stays ordinary C++.
+
+#include "solve.hpp"
+
+#include <geovoronoi/backend/cuda.cuh>
+
+#include <cuda_runtime.h>
+
+namespace gvcli {
+
+std::string cuda_unavailable_reason(std::string* device) {
+  int count = 0;
+  const cudaError_t e = cudaGetDeviceCount(&count);
+  if (e != cudaSuccess) {
+    (void)cudaGetLastError();  // clear the sticky error state of this thread
+    return std::string("no usable CUDA device (") + cudaGetErrorString(e) + ")";
+  }
+  if (count <= 0) return "no CUDA device";
+  if (device) {
+    cudaDeviceProp prop{};
+    if (cudaGetDeviceProperties(&prop, 0) == cudaSuccess) *device = prop.name;
+    else (void)cudaGetLastError();
+  }
+  return {};
+}
+
+gv::diagram<float, 3> cuda_voronoi(const problem_spec& s) { return solve_voronoi(gv::cuda::par, s); }
+
+gv::shape_weights<float, 3> cuda_shape(const problem_spec& s, const gv::diagram<float, 3>& d,
+                                       const gv::shape_options& opt) {
+  return solve_shape(gv::cuda::par, s, d, opt);
+}
+
+}  // namespace gvcli
