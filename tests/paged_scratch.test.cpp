@@ -155,6 +155,29 @@ TEST_CASE("paged_scratch: memory held follows the pages handed out, not the grid
   CHECK(s.bytes() == held);
 }
 
+TEST_CASE("paged_scratch: sorted walks of clustered and of scattered pages") {
+  // clustered pages are walked through the table, scattered ones sorted: both give increasing order
+  gv::detail::paged_scratch<gv::index_t, 2> s;
+  s.prepare(100000);
+  auto fill = [](gv::index_t first, gv::index_t* values, gv::index_t count) {
+    for (gv::index_t i = 0; i < count; ++i) values[i] = first + i;
+  };
+  for (const auto& pages : {std::vector<gv::index_t>{7, 3, 5, 4, 9}, std::vector<gv::index_t>{24000, 3, 900, 12},
+                            std::vector<gv::index_t>{0, 24999}, std::vector<gv::index_t>{24999, 24998, 0}}) {
+    for (const auto page : pages) s.touch(page * 4 + 1, fill);
+    std::vector<gv::index_t> walked;
+    s.for_each_page_sorted([&](gv::index_t first, const gv::index_t* values, gv::index_t count) {
+      CHECK(values[0] == first);
+      CHECK(count == 4);
+      walked.push_back(first / 4);
+    });
+    auto expect = pages;
+    std::sort(expect.begin(), expect.end());
+    CHECK(walked == expect);
+    s.clear();
+  }
+}
+
 TEST_CASE("paged_scratch: a negative size is rejected") {
   gv::detail::paged_scratch<int> s;
   CHECK_THROWS_AS(s.prepare(-1), std::invalid_argument);
