@@ -10,8 +10,10 @@
 ///   steak        128x96x32 steak phantom, 12 nodes, min_stiffness, 26-conn; insert as for table1
 ///   128cube_100  128^3 constant, 100 nodes, uniform, 26-conn; bounded: from 10 of the nodes (0, 10, ...
 ///                90) alone, radius 2x the largest distance in its cell (Distance Ratio's support)
-/// Counters: `voxels_per_second` = cell voxels (insert), voxels reached (bounded) or grid voxels
-/// (dense) per second of real time; `ns_per_voxel` its inverse.
+/// Counters: `voxels_per_second` = cell voxels (insert), voxels reached (bounded) or voxels the
+/// dense solve reaches (dense) per second of real time; `ns_per_voxel` its inverse.
+/// `sparse/bounded_api/<seq|seq_ws>/...` and `sparse/insert_api/...` go through the front end, with a
+/// fresh scratch per call or one sequential::workspace for all calls.
 
 #include "common.hpp"
 
@@ -125,14 +127,69 @@ void bounded_case(benchmark::State& state, const std::string& name) {
 void dense_case(benchmark::State& state, const std::string& name) {
   const auto& c = get_case(name);
   with_problem(c, [&](const auto& p) {
+    gv::index_t reached = 0;
     for (auto _ : state) {
       auto d = gv::voronoi(gv::seq, p, c.nodes);
       benchmark::DoNotOptimize(d.distance.data());
+      if (reached == 0)
+        for (gv::index_t v = 0; v < d.label.size(); ++v) reached += d.label[v] != gv::no_label;
     }
-    const double voxels = double(c.g.size()) * double(state.iterations());
+    // per voxel reached (the steak's background is never entered), as the sparse cases count
+    const double voxels = double(reached) * double(state.iterations());
     state.counters["voxels_per_second"] = benchmark::Counter(voxels, benchmark::Counter::kIsRate);
     state.counters["ns_per_voxel"] =
         benchmark::Counter(voxels, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  });
+}
+
+/// Through the front end (validation included), with a fresh scratch per call (`seq`) or one
+/// workspace for all calls (`seq(ws)`): what Distance Ratio's ~2 calls per node pay.
+void bounded_api_case(benchmark::State& state, const std::string& name, bool workspace) {
+  const auto& c = get_case(name);
+  with_problem(c, [&](const auto& p) {
+    const auto d = gv::voronoi(gv::seq, p, c.nodes);
+    std::vector<float> radius(c.nodes.size(), 0.0f);
+    for (gv::index_t v = 0; v < d.label.size(); ++v)
+      if (d.label[v] != gv::no_label)
+        radius[std::size_t(d.label[v])] = std::max(radius[std::size_t(d.label[v])], 2.0f * d.distance[v]);
+    gv::sequential::workspace ws;
+    const auto policy = workspace ? gv::seq(ws) : gv::seq;
+    double reached = 0;
+    for (auto _ : state) {
+      for (std::size_t i = 0; i < c.nodes.size(); i += 10) {
+        const auto r = gv::single_source(policy, p, c.nodes[i], radius[i]);
+        reached += double(r.size());
+        benchmark::DoNotOptimize(r.voxel.data());
+      }
+    }
+    state.counters["voxels_per_second"] = benchmark::Counter(reached, benchmark::Counter::kIsRate);
+    state.counters["ns_per_voxel"] =
+        benchmark::Counter(reached, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+  });
+}
+
+/// insert_queries(seq, ...) through the front end in batches of 256 queries, with a fresh scratch
+/// per call or one workspace.
+void insert_api_case(benchmark::State& state, const std::string& name, bool workspace) {
+  const auto& c = get_case(name);
+  with_problem(c, [&](const auto& p) {
+    const auto d = gv::voronoi(gv::seq, p, c.nodes);
+    const auto queries = pick_queries(d, 2000);
+    gv::sequential::workspace ws;
+    const auto policy = workspace ? gv::seq(ws) : gv::seq;
+    double cell_voxels = 0;
+    for (auto _ : state) {
+      for (std::size_t b = 0; b < queries.size(); b += 256) {
+        const std::vector<gv::index_t> batch(queries.begin() + std::ptrdiff_t(b),
+                                             queries.begin() + std::ptrdiff_t(std::min(queries.size(), b + 256)));
+        const auto out = gv::insert_queries(policy, p, d, batch);
+        cell_voxels += double(out.voxel.size());
+        benchmark::DoNotOptimize(out.voxel.data());
+      }
+    }
+    state.counters["voxels_per_second"] = benchmark::Counter(cell_voxels, benchmark::Counter::kIsRate);
+    state.counters["ns_per_voxel"] =
+        benchmark::Counter(cell_voxels, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   });
 }
 
@@ -189,6 +246,19 @@ GEOVORONOI_BENCH_REGISTER(register_seq_sparse_cases) {
   for (const char* name : {"table1", "steak", "128cube_100"}) {
     const std::string n = name;
     benchmark::RegisterBenchmark(("sparse/dense/seq/" + n).c_str(), [n](benchmark::State& s) { dense_case(s, n); })
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->MinTime(1.0);
+  }
+  for (const bool ws : {false, true}) {
+    const std::string policy = ws ? "seq_ws" : "seq";
+    benchmark::RegisterBenchmark(("sparse/bounded_api/" + policy + "/128cube_100").c_str(),
+                                 [ws](benchmark::State& s) { bounded_api_case(s, "128cube_100", ws); })
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->MinTime(1.0);
+    benchmark::RegisterBenchmark(("sparse/insert_api/" + policy + "/steak").c_str(),
+                                 [ws](benchmark::State& s) { insert_api_case(s, "steak", ws); })
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()
         ->MinTime(1.0);

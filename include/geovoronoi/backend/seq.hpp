@@ -27,7 +27,7 @@ namespace impl = geovoronoi::detail::seq_engine;
  * @brief Reusable scratch memory of the sequential backend's sparse searches (bounded_solve,
  *        single_source, insert_queries).
  *
- * Without one, each call allocates its own scratch: a page table of 4 bytes per 64 voxels of the grid
+ * Without one, each call allocates its own scratch: a page table of 8 bytes per 64 voxels of the grid
  * plus pages for the voxels the search visits. A workspace keeps that memory from one call to the
  * next, so many small calls on the same grid (Distance Ratio's bounded solves, Sibson's batches of
  * queries) pay for the table once. Between calls it holds only the table (all empty) and the pool of
