@@ -111,8 +111,11 @@ sparse_solution<typename P::value_type> bounded(const P& p, Keys& st, Heap& heap
   using kt = key_traits<T>;
   st.begin_bounded(p.field, p.geometry.size(), radius);
   heap.clear();
-  run_from_sources(p, st, heap, sources, radius);
+  const std::size_t reached = run_from_sources(p, st, heap, sources, radius);  // each reached voxel settles once
   sparse_solution<T> r;
+  r.voxel.reserve(reached);
+  r.distance.reserve(reached);
+  r.label.reserve(reached);
   st.drain_sorted([&](index_t v, const typename kt::key_type& k) {
     r.voxel.push_back(v);
     r.distance.push_back(kt::distance(k));
