@@ -4,7 +4,9 @@
 ///
 /// Select it by passing geovoronoi::seq as the first argument of any solver entry point
 /// (geovoronoi/voronoi.hpp). It is the reference every other backend is tested against, and it is
-/// itself tested against a brute-force Bellman-Ford oracle.
+/// itself tested against a brute-force Bellman-Ford oracle. The sparse searches (bounded_solve,
+/// single_source, insert_queries) keep their keys in a paged scratch whose memory follows what they
+/// visit; pass geovoronoi::seq(ws) with a sequential::workspace to reuse it across calls.
 
 #include <geovoronoi/detail/big_array.hpp>
 #include <geovoronoi/detail/parents.hpp>
@@ -32,7 +34,8 @@ namespace impl = geovoronoi::detail::seq_engine;
  * next, so many small calls on the same grid (Distance Ratio's bounded solves, Sibson's batches of
  * queries) pay for the table once. Between calls it holds only the table (all empty) and the pool of
  * pages, sized by the largest search so far. Pass it with the policy: `geovoronoi::seq(ws)`.
- * A workspace serves one call at a time (it is not thread-safe); it works with any grid and value type.
+ * A workspace serves one call at a time (it is not thread-safe: give each thread its own); it works
+ * with any grid, any problem and both value types, and results do not depend on it.
  *
  * @code
  * geovoronoi::sequential::workspace ws;
