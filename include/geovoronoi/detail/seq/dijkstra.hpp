@@ -104,8 +104,8 @@ struct has_peek : std::false_type {};
 template <class H>
 struct has_peek<H, std::void_t<decltype(std::declval<const H&>().peek_ready())>> : std::true_type {};
 
-/// States whose at(v) returns a reference to the voxel's slot, a key or a node with the key and the
-/// field, valid until the next at(): a relaxation then looks the voxel up once.
+/// States whose at(v) returns a reference to the voxel's slot (its key, or a node with get_key(),
+/// set_key() and field), valid at least until the next at(): a relaxation then looks it up once.
 template <class S, class = void>
 struct has_slot_access : std::false_type {};
 template <class S>

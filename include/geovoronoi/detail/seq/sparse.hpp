@@ -18,13 +18,13 @@
 namespace geovoronoi::detail::seq_engine {
 
 /**
- * Keys and field values in pages of 2^PageBits voxels (paged_scratch), laid out like the dense
- * solver's nodes. A page is filled when the search first looks at one of its voxels: the field is
- * copied, and each key starts at the bound a candidate must beat there, (radius, 0) for a bounded
- * solve or (d(v), 0) for insert-query, whose candidates carry label 1. A candidate (nd, l) is then
- * smaller than the initial key exactly when nd is below the bound, so the engine's pre-check skips a
- * voxel the search may not enter before it evaluates the metric, the voxels reached are those whose
- * key changed, and a search's cost and memory follow what it visits.
+ * Keys in pages of 2^PageBits voxels (paged_scratch); field values read from the problem (copying
+ * them into the pages measured slower: most look-ups stop at the key). A page is filled when the
+ * search first looks at one of its voxels, each key with the bound a candidate must beat there:
+ * (radius, 0) for a bounded solve, (d(v), 0) for insert-query, whose candidates carry label 1. A
+ * candidate (nd, l) is then smaller than the initial key exactly when nd is below the bound, so the
+ * engine's pre-check skips a voxel the search may not enter before it evaluates the metric, the
+ * voxels reached are those whose key changed, and a search's cost and memory follow what it visits.
  */
 template <class T, int PageBits = 6>
 struct paged_keys {
