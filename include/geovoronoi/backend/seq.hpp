@@ -4,25 +4,89 @@
 ///
 /// Select it by passing geovoronoi::seq as the first argument of any solver entry point
 /// (geovoronoi/voronoi.hpp). It is the reference every other backend is tested against, and it is
-/// itself tested against a brute-force Bellman-Ford oracle.
+/// itself tested against a brute-force Bellman-Ford oracle. The sparse searches (bounded_solve,
+/// single_source, insert_queries) keep their keys in a paged scratch whose memory follows what they
+/// visit; pass geovoronoi::seq(ws) with a sequential::workspace to reuse it across calls.
 
 #include <geovoronoi/detail/big_array.hpp>
 #include <geovoronoi/detail/parents.hpp>
 #include <geovoronoi/detail/seq/dijkstra.hpp>
+#include <geovoronoi/detail/seq/sparse.hpp>
 #include <geovoronoi/result.hpp>
 
 #include <algorithm>
 #include <limits>
 #include <numeric>
+#include <type_traits>
 #include <vector>
 
 namespace geovoronoi {
 namespace sequential {
 
-/// Policy type of the sequential backend.
-struct par_t {};
-
 namespace impl = geovoronoi::detail::seq_engine;
+
+/**
+ * @brief Reusable scratch memory of the sequential backend's sparse searches (bounded_solve,
+ *        single_source, insert_queries).
+ *
+ * Without one, each call allocates its own scratch: a page table of 8 bytes per 64 voxels of the grid
+ * plus pages for the voxels the search visits. A workspace keeps that memory from one call to the
+ * next, so many small calls on the same grid (Distance Ratio's bounded solves, Sibson's batches of
+ * queries) pay for the table once. Between calls it holds only the table (all empty) and the pool of
+ * pages, sized by the largest search so far. Pass it with the policy: `geovoronoi::seq(ws)`.
+ * A workspace serves one call at a time (it is not thread-safe: give each thread its own); it works
+ * with any grid, any problem and both value types, and results do not depend on it.
+ *
+ * @code
+ * geovoronoi::sequential::workspace ws;
+ * for (const auto& batch : batches) {
+ *   auto cells = geovoronoi::insert_queries(geovoronoi::seq(ws), p, d, batch);
+ *   // ...
+ * }
+ * @endcode
+ */
+class workspace {
+ public:
+  /// Bytes held between calls.
+  std::size_t bytes() const noexcept {
+    return f_.keys.pages.bytes() + d_.keys.pages.bytes();
+  }
+  /// Gives the memory back (the next call allocates afresh).
+  void release() {
+    f_ = {};
+    d_ = {};
+  }
+  /// The scratch for value type @p T (float or double).
+  template <class T>
+  impl::sparse_scratch<T>& scratch() noexcept {
+    static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>, "workspace: T must be float or double");
+    if constexpr (std::is_same_v<T, float>)
+      return f_;
+    else
+      return d_;
+  }
+
+ private:
+  impl::sparse_scratch<float> f_;
+  impl::sparse_scratch<double> d_;
+};
+
+/// Policy type of the sequential backend: `geovoronoi::seq`, or `geovoronoi::seq(ws)` to reuse a
+/// workspace's scratch memory across calls.
+struct par_t {
+  workspace* ws = nullptr;
+
+  /// The same policy, with sparse searches using @p w's scratch memory (which must outlive the calls).
+  constexpr par_t operator()(workspace& w) const noexcept { return par_t{&w}; }
+
+  /// Calls f(scratch) with the workspace's scratch for T, or with a fresh one.
+  template <class T, class F>
+  decltype(auto) with_scratch(F&& f) const {
+    if (ws) return f(ws->scratch<T>());
+    impl::sparse_scratch<T> local;
+    return f(local);
+  }
+};
 
 template <class P>
 using T_of = typename P::value_type;
@@ -56,64 +120,24 @@ diagram<T_of<P>, P::dim> backend_solve(par_t, const P& p, const std::vector<sour
   return d;
 }
 
-/// Bounded (sparse) multi-source solve; scratch memory proportional to the voxels reached.
+/// Bounded (sparse) multi-source solve (backend hook; call geovoronoi::bounded_solve): scratch
+/// proportional to the voxels reached, plus the policy's workspace page table.
 template <class P>
-sparse_solution<T_of<P>> backend_bounded(par_t, const P& p, const std::vector<source<T_of<P>>>& sources,
+sparse_solution<T_of<P>> backend_bounded(par_t policy, const P& p, const std::vector<source<T_of<P>>>& sources,
                                          T_of<P> radius) {
-  using T = T_of<P>;
-  using kt = detail::key_traits<T>;
-  impl::sparse_keys<T> st;
-  st.f = p.field;
-  detail::radix_heap<T> heap;
-  impl::run_from_sources(p, st, heap, sources, radius);
-  std::vector<std::pair<index_t, typename kt::key_type>> out;
-  out.reserve(st.map.size());
-  st.map.for_each([&](index_t v, const typename kt::key_type& k) { out.push_back({v, k}); });
-  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  sparse_solution<T> r;
-  r.voxel.reserve(out.size());
-  r.distance.reserve(out.size());
-  r.label.reserve(out.size());
-  for (const auto& [v, k] : out) {
-    r.voxel.push_back(v);
-    r.distance.push_back(kt::distance(k));
-    r.label.push_back(kt::label(k));
-  }
-  return r;
+  return policy.with_scratch<T_of<P>>([&](auto& s) { return impl::bounded(p, s.keys, s.heap, sources, radius); });
 }
 
-/// Insert-query for a batch of queries, one after the other, each with a hash map sized by its cell.
+/// Insert-query for a batch of queries (backend hook; call geovoronoi::insert_queries), one after the
+/// other in one scratch: each query's search touches its cell and the cell's rim only.
 template <class P>
-query_cells<T_of<P>> backend_insert_queries(par_t, const P& p, const diagram<T_of<P>, P::dim>& d,
+query_cells<T_of<P>> backend_insert_queries(par_t policy, const P& p, const diagram<T_of<P>, P::dim>& d,
                                             const std::vector<index_t>& queries) {
-  using T = T_of<P>;
-  using kt = detail::key_traits<T>;
-  query_cells<T> out;
-  out.query = queries;
+  query_cells<T_of<P>> out;
+  out.query.reserve(queries.size());
   out.offsets.reserve(queries.size() + 1);
-  impl::sparse_keys<T> st;
-  st.f = p.field;
-  detail::radix_heap<T> heap;
-  const T* dist = d.distance.data();
-  std::vector<std::pair<index_t, typename kt::key_type>> cell;
-  for (const index_t q : queries) {
-    st.map.reset(cell.size() + 16);
-    heap.clear();
-    if (T(0) < dist[q]) {
-      st.set(q, kt::make(T(0), 0));
-      heap.push(kt::make(T(0), 0), q);
-    }
-    impl::run(p, st, heap, [dist](index_t u, T nd) { return nd < dist[u]; });
-    cell.clear();
-    st.map.for_each([&](index_t v, const typename kt::key_type& k) { cell.push_back({v, k}); });
-    std::sort(cell.begin(), cell.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (const auto& [v, k] : cell) {
-      out.voxel.push_back(v);
-      out.distance.push_back(kt::distance(k));
-      out.owner.push_back(d.label[v]);
-    }
-    out.offsets.push_back(out.voxel.size());
-  }
+  policy.with_scratch<T_of<P>>(
+      [&](auto& s) { impl::insert_queries(p, s.keys, s.heap, d, queries.data(), queries.size(), out); });
   return out;
 }
 

@@ -1,8 +1,8 @@
 #pragma once
 // The sequential engine: label-carrying Dijkstra on the implicit grid graph with a radix heap over
 // packed (distance, label) keys. One loop serves the dense solve, the bounded solve and insert-query;
-// they differ only in where keys are stored (a dense array or a hash map bounded by what is visited)
-// and in which relaxations they accept.
+// they differ only in where keys are stored (a dense array, or scratch bounded by what is visited:
+// pages in sparse.hpp, a hash map here) and in which relaxations they accept.
 
 #include <geovoronoi/detail/flat_map.hpp>
 #include <geovoronoi/detail/key.hpp>
@@ -12,6 +12,7 @@
 #include <geovoronoi/metric.hpp>
 #include <geovoronoi/result.hpp>
 
+#include <algorithm>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -51,7 +52,9 @@ struct dense_keys {
   }
 };
 
-/// Keys in a hash map holding only the voxels visited; field values read from the problem.
+/// Keys in a hash map holding only the voxels visited; field values read from the problem. The sparse
+/// searches now use paged_keys (sparse.hpp); this one stays for comparison and for the Thrust
+/// backend's host path.
 template <class T>
 struct sparse_keys {
   using kt = key_traits<T>;
@@ -65,12 +68,73 @@ struct sparse_keys {
     return x ? *x : kt::unreached;
   }
   void set(index_t v, typename kt::key_type key) { map.get_or_insert(v, key) = key; }
+
+  // The interface of paged_keys (sparse.hpp): start a bounded solve or a series of insert-queries.
+  static constexpr label_t query_label = 0;
+  const T* bound = nullptr;
+  void begin_bounded(const T* field, index_t, T) {
+    f = field;
+    map.reset(expected);
+  }
+  void begin_queries(const T* field, index_t, const T* distance) {
+    f = field;
+    bound = distance;
+    map.reset(expected);
+  }
+  auto query_filter() const noexcept {
+    return [b = bound](index_t u, T nd) { return nd < b[u]; };
+  }
+  /// Calls out(v, key) for every voxel reached, by increasing v (collected, then sorted), and
+  /// empties the map, sized for a search like this one.
+  template <class Out>
+  void drain_sorted(Out&& out) {
+    sorted.clear();
+    map.for_each([&](index_t v, const typename kt::key_type& k) { sorted.push_back({v, k}); });
+    std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& [v, k] : sorted) out(v, k);
+    expected = sorted.size() + 16;
+    map.reset(expected);
+  }
+  std::vector<std::pair<index_t, typename kt::key_type>> sorted;
+  std::size_t expected = 64;
 };
 
 template <class H, class = void>
 struct has_peek : std::false_type {};
 template <class H>
 struct has_peek<H, std::void_t<decltype(std::declval<const H&>().peek_ready())>> : std::true_type {};
+
+/// States whose at(v) returns a reference to the voxel's slot (its key, or a node with get_key(),
+/// set_key() and field), valid at least until the next at(): a relaxation then looks it up once.
+template <class S, class = void>
+struct has_slot_access : std::false_type {};
+template <class S>
+struct has_slot_access<S, std::void_t<decltype(std::declval<S&>().at(index_t(0)))>> : std::true_type {};
+
+template <class K>
+auto slot_key(const K& key) noexcept -> decltype(key < key, K()) {
+  return key;
+}
+template <class N>
+auto slot_key(const N& node) noexcept -> decltype(node.get_key()) {
+  return node.get_key();
+}
+template <class S, class K>
+auto slot_field(const S& st, const K&, index_t v) noexcept -> decltype(std::declval<K>() < std::declval<K>(), st.field(v)) {
+  return st.field(v);
+}
+template <class S, class N>
+auto slot_field(const S&, const N& node, index_t) noexcept -> decltype(node.field) {
+  return node.field;
+}
+template <class K>
+auto set_slot_key(K& slot, const K& key) noexcept -> decltype(key < key, void()) {
+  slot = key;
+}
+template <class N, class K>
+auto set_slot_key(N& node, const K& key) noexcept -> decltype(node.set_key(key)) {
+  node.set_key(key);
+}
 
 [[noreturn]] inline void bad_weight(double w) {
   throw metric_error("geovoronoi: the metric returned the edge weight " + std::to_string(w) +
@@ -100,20 +164,38 @@ std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept) {
     const label_t l = kt::label(it.key);
     const T fv = st.field(v);
     walk.for_each_neighbour(v, [&](int k, index_t u) {
-      // A neighbour whose key is already <= the popped key cannot improve (weights are >= 0): skip
-      // it before paying for the metric. This covers every settled neighbour.
-      const auto ku = st.get(u);
-      if (!(it.key < ku)) return;
-      const T fu = st.field(u);
-      if (!detail::inside<typename P::metric_type>(fu)) return;
-      const T w = p.metric(p.edges.length[k], fv, fu);
-      if (!(w >= T(0))) bad_weight(double(w));
-      const T nd = dv + w;
-      if (!accept(u, nd)) return;
-      const auto nk = kt::make(nd, l);
-      if (nk < ku) {
-        st.set(u, nk);
-        heap.push(nk, u);
+      if constexpr (has_slot_access<State>::value) {
+        // the same steps with the neighbour's slot found once (paged_keys)
+        auto& slot = st.at(u);
+        const auto ku = slot_key(slot);
+        if (!(it.key < ku)) return;
+        const T fu = slot_field(st, slot, u);
+        if (!detail::inside<typename P::metric_type>(fu)) return;
+        const T w = p.metric(p.edges.length[k], fv, fu);
+        if (!(w >= T(0))) bad_weight(double(w));
+        const T nd = dv + w;
+        if (!accept(u, nd)) return;
+        const auto nk = kt::make(nd, l);
+        if (nk < ku) {
+          set_slot_key(slot, nk);
+          heap.push(nk, u);
+        }
+      } else {
+        // A neighbour whose key is already <= the popped key cannot improve (weights are >= 0): skip
+        // it before paying for the metric. This covers every settled neighbour.
+        const auto ku = st.get(u);
+        if (!(it.key < ku)) return;
+        const T fu = st.field(u);
+        if (!detail::inside<typename P::metric_type>(fu)) return;
+        const T w = p.metric(p.edges.length[k], fv, fu);
+        if (!(w >= T(0))) bad_weight(double(w));
+        const T nd = dv + w;
+        if (!accept(u, nd)) return;
+        const auto nk = kt::make(nd, l);
+        if (nk < ku) {
+          st.set(u, nk);
+          heap.push(nk, u);
+        }
       }
     });
   }
