@@ -53,7 +53,7 @@ struct stats {
  * Trivially copyable; `with_*` return modified copies.
  */
 struct par_t {
-  /// Voxels a threshold raise aims to release at once (0: a default per system, 16384 on host
+  /// Voxels a threshold raise aims to release at once (0: a default per system, 65536 on host
   /// systems, 262144 on CUDA). Larger gives more parallelism per round and more re-expansions.
   std::size_t batch = 0;
   /// Where to write the work counters of each call (none when null).
@@ -95,7 +95,7 @@ namespace detail {
 template <class Exec>
 index_t target_of(const par_t& pol) {
   if (pol.batch) return static_cast<index_t>(pol.batch);
-  return is_cuda_policy_v<Exec> ? index_t(1) << 18 : index_t(1) << 14;
+  return is_cuda_policy_v<Exec> ? index_t(1) << 18 : index_t(1) << 16;
 }
 inline void report(const par_t& pol, const engine_counts& c) {
   if (!pol.report) return;
