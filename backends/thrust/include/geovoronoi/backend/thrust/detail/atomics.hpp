@@ -43,15 +43,17 @@ GEOVORONOI_HOST_DEVICE inline bool flag_cas(flag_t* f, flag_t expect, flag_t wan
 /// re-queuing the voxel at the same time); returns the previous word. Sequentially consistent and
 /// done before the voxel's key is loaded, so a later drop of the key re-queues the voxel.
 GEOVORONOI_HOST_DEVICE inline flag_t flag_begin_expansion(flag_t* f) noexcept {
-  for (;;) {
-    const flag_t cur = flag_load(f);
-    if (flag_cas(f, cur, (cur & ~state_mask) | expanded_bit)) {
+  // one exchange; a suspect mark set before it is put back (one set after it lands on the new word,
+  // and a neighbour's compare-and-swap that raced with the put-back retries)
 #ifdef __CUDA_ARCH__
-      __threadfence();
+  const flag_t old = atomicExch(f, expanded_bit);
+  if (old & suspect_bit) atomicOr(f, suspect_bit);
+  __threadfence();
+#else
+  const flag_t old = __atomic_exchange_n(f, expanded_bit, __ATOMIC_SEQ_CST);
+  if (old & suspect_bit) __atomic_fetch_or(f, suspect_bit, __ATOMIC_SEQ_CST);
 #endif
-      return cur;
-    }
-  }
+  return old;
 }
 
 /// Moves the queue state to @p to if the current state satisfies @p from (other bits kept); true

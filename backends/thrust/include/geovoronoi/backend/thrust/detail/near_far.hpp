@@ -40,28 +40,39 @@ struct engine_counts {
 /// Grid extents for neighbour walks inside functors.
 struct extents3 {
   index_t nx, ny, nz;
+  bool small;  ///< fewer than 2^32 voxels: coordinates decode with 32-bit divisions
 };
 
 template <class P>
 extents3 extents_of(const P& p) noexcept {
-  return {p.geometry.extent(0), p.geometry.extent(1), P::dim == 3 ? p.geometry.extent(P::dim - 1) : 1};
+  return {p.geometry.extent(0), p.geometry.extent(1), P::dim == 3 ? p.geometry.extent(P::dim - 1) : 1,
+          p.geometry.size() <= index_t(UINT32_MAX)};
 }
 
 /// Calls f(k, v) for every neighbour v = u + offset k inside the grid.
 template <class P, class F>
 GEOVORONOI_HOST_DEVICE inline void for_each_neighbour(const P& p, const extents3& e, index_t u, F& f) {
-  const index_t nxy = e.nx * e.ny;
-  const index_t z = u / nxy;
-  const index_t r = u - z * nxy;
-  const index_t y = r / e.nx;
-  const index_t x = r - y * e.nx;
+  index_t x, y, z;
+  if (e.small) {
+    const std::uint32_t uu = std::uint32_t(u), nx = std::uint32_t(e.nx), nxy = std::uint32_t(e.nx * e.ny);
+    const std::uint32_t zz = uu / nxy, r = uu - zz * nxy, yy = r / nx;
+    x = index_t(r - yy * nx), y = index_t(yy), z = index_t(zz);
+  } else {
+    const index_t nxy = e.nx * e.ny;
+    z = u / nxy;
+    const index_t r = u - z * nxy;
+    y = r / e.nx;
+    x = r - y * e.nx;
+  }
   const bool interior =
       x > 0 && x < e.nx - 1 && y > 0 && y < e.ny - 1 && (P::dim == 2 || (z > 0 && z < e.nz - 1));
+  if (interior) {
+    for (int k = 0; k < P::neighbours; ++k) f(k, u + p.edges.delta[k]);
+    return;
+  }
   for (int k = 0; k < P::neighbours; ++k) {
-    if (!interior) {
-      const index_t xx = x + p.edges.offset[k][0], yy = y + p.edges.offset[k][1], zz = z + p.edges.offset[k][2];
-      if (xx < 0 || xx >= e.nx || yy < 0 || yy >= e.ny || zz < 0 || zz >= e.nz) continue;
-    }
+    const index_t xx = x + p.edges.offset[k][0], yy = y + p.edges.offset[k][1], zz = z + p.edges.offset[k][2];
+    if (xx < 0 || xx >= e.nx || yy < 0 || yy >= e.ny || zz < 0 || zz >= e.nz) continue;
     f(k, u + p.edges.delta[k]);
   }
 }
@@ -88,6 +99,7 @@ struct expand_fn {
 
   P p;
   extents3 ext;
+  index_t n;
   cell* keys;
   flag_t* flags;
   const index_t* list;
@@ -106,6 +118,21 @@ struct expand_fn {
     index_t a = 0, b = 0;
     for (index_t i = begin; i < end; ++i) {
       const index_t u = list[i];
+#ifndef __CUDA_ARCH__
+      if (i + 2 < count) {  // prefetch the neighbourhood of the voxel expanded two steps ahead
+        const index_t w = list[i + 2];
+        const index_t nx = ext.nx, nxy = ext.nx * ext.ny;
+        for (int dz = P::dim == 3 ? -1 : 0; dz <= (P::dim == 3 ? 1 : 0); ++dz)
+          for (int dy = -1; dy <= 1; ++dy) {
+            const index_t c = w + dz * nxy + dy * nx;
+            if (c >= 1 && c + 1 < n) {
+              __builtin_prefetch(keys + c - 1, 1);
+              __builtin_prefetch(p.field + c - 1, 0);
+              __builtin_prefetch(flags + c - 1, 1);
+            }
+          }
+      }
+#endif
       // before the load: a later drop of u's key re-queues u
       const bool again = (flag_begin_expansion(flags + u) & expanded_bit) != 0;
       const auto ku = cell::load(keys + u);
@@ -357,7 +384,7 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
       grow(far, far_size + cnt * N);
       set_sizes<Exec>(sizes, next_size, far_size);
       parallel_for(exec, (cnt + chunk - 1) / chunk,
-                   expand_fn<P, Accept, chunk>{p, ext, keys, flags, raw(near) + s, cnt, raw(next), raw(far), raw(sizes),
+                   expand_fn<P, Accept, chunk>{p, ext, n, keys, flags, raw(near) + s, cnt, raw(next), raw(far), raw(sizes),
                                                theta, accept, raw(error)},
                    cnt * N);
       next_size = read<Exec>(raw(sizes));
