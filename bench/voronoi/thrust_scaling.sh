@@ -38,7 +38,7 @@ echo "OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-<unset>} GOMP_SPINCOUNT=${GOMP_SPINCOUN
 for t in 1 2; do
   echo "== OMP_NUM_THREADS=$t: $(wait_quiet); load average $(cut -d' ' -f1-3 /proc/loadavg)"
   OMP_NUM_THREADS=$t "$exe" --benchmark_filter="$filter" --benchmark_repetitions="$reps" \
-    --benchmark_out="$out/t$t.json" --benchmark_out_format=json >/dev/null
+    --benchmark_out="$out/t$t.json" --benchmark_out_format=json >/dev/null 2>"$out/t$t.log"
   "$py" - "$out/t$t.json" <<'EOF'
 import json, re, statistics, sys
 runs = [b for b in json.load(open(sys.argv[1]))["benchmarks"] if b.get("run_type") == "iteration"]
