@@ -7,6 +7,7 @@
 ///   bench_voronoi_thrust --benchmark_filter='voronoi/(seq|thrust_omp)/gradient/128/10/26'
 /// Counter `relaxations_per_voxel`: voxel expansions (each relaxes the voxel's N edges) per reached
 /// voxel in the last solve; 1.0 is Dijkstra's (every voxel expanded once, with its final key).
+/// Counter `rounds`: parallel expansion steps; `relabelled`: voxels whose label the repair pass recomputed.
 
 #include "common.hpp"
 
@@ -32,6 +33,7 @@ gb::case_hooks stats_hooks(geovoronoi::thrust::stats* st) {
   h.after = [st](benchmark::State& state) {
     state.counters["relaxations_per_voxel"] = st->expansions_per_voxel();
     state.counters["rounds"] = double(st->rounds);
+    state.counters["relabelled"] = double(st->relabelled);
   };
   return h;
 }

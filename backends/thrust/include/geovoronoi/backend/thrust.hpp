@@ -20,8 +20,8 @@
 ///
 /// The algorithm, its memory use and its limits are described in docs/backend-thrust.md.
 
+#include <geovoronoi/backend/thrust/detail/host_parallel.hpp>
 #include <geovoronoi/backend/thrust/detail/insert_queries.hpp>
-#include <geovoronoi/detail/label_repair.hpp>
 #include <geovoronoi/backend/thrust/detail/near_far.hpp>
 #include <geovoronoi/backend/thrust/detail/solve.hpp>
 #include <geovoronoi/result.hpp>
@@ -41,6 +41,8 @@ struct stats {
   std::uint64_t reached = 0;     ///< voxels with a finite distance (cells' voxels for insert-query)
   std::uint64_t rounds = 0;      ///< parallel expansion rounds
   std::uint64_t splits = 0;      ///< threshold raises
+  std::uint64_t suspects = 0;    ///< voxels the engine marked for the label repair (solves only)
+  std::uint64_t relabelled = 0;  ///< voxels whose label the repair recomputed (suspects and their heirs)
   /// Expansions per reached voxel: 1 means every voxel was expanded once, with its final key.
   double expansions_per_voxel() const noexcept { return reached ? double(expansions) / double(reached) : 0.0; }
 };
@@ -51,7 +53,7 @@ struct stats {
  * Trivially copyable; `with_*` return modified copies.
  */
 struct par_t {
-  /// Voxels a threshold raise aims to release at once (0: a default per system, 16384 on host
+  /// Voxels a threshold raise aims to release at once (0: a default per system, 65536 on host
   /// systems, 262144 on CUDA). Larger gives more parallelism per round and more re-expansions.
   std::size_t batch = 0;
   /// Where to write the work counters of each call (none when null).
@@ -93,14 +95,16 @@ namespace detail {
 template <class Exec>
 index_t target_of(const par_t& pol) {
   if (pol.batch) return static_cast<index_t>(pol.batch);
-  return is_cuda_policy_v<Exec> ? index_t(1) << 18 : index_t(1) << 14;
+  return is_cuda_policy_v<Exec> ? index_t(1) << 18 : index_t(1) << 16;
 }
-inline void report(const par_t& pol, const engine_counts& c, std::uint64_t reached) {
+inline void report(const par_t& pol, const engine_counts& c) {
   if (!pol.report) return;
   pol.report->expansions = c.expansions;
   pol.report->rounds = c.rounds;
   pol.report->splits = c.splits;
-  pol.report->reached = reached;
+  pol.report->reached = c.reached;
+  pol.report->suspects = c.suspects;
+  pol.report->relabelled = c.relabelled;
 }
 template <class Exec, class P>
 diagram<typename P::value_type, P::dim> solve_on(const Exec& exec, const par_t& pol, const P& p,
@@ -108,11 +112,7 @@ diagram<typename P::value_type, P::dim> solve_on(const Exec& exec, const par_t& 
                                                  const solve_options& opt) {
   engine_counts c;
   auto d = solve(exec, p, s, opt, target_of<Exec>(pol), c);
-  if (pol.report) {
-    std::uint64_t r = 0;
-    for (index_t v = 0; v < d.label.size(); ++v) r += d.label[v] != no_label;
-    report(pol, c, r);
-  }
+  report(pol, c);
   return d;
 }
 template <class Exec, class P>
@@ -121,7 +121,7 @@ sparse_solution<typename P::value_type> bounded_on(const Exec& exec, const par_t
                                                    typename P::value_type radius) {
   engine_counts c;
   auto r = bounded(exec, p, s, radius, target_of<Exec>(pol), c);
-  report(pol, c, r.size());
+  report(pol, c);
   return r;
 }
 template <class Exec, class P>
@@ -130,28 +130,26 @@ query_cells<typename P::value_type> queries_on(const Exec& exec, const par_t& po
                                                const std::vector<index_t>& q) {
   engine_counts c;
   auto r = insert_queries(exec, p, d, q, target_of<Exec>(pol), c);
-  report(pol, c, r.voxel.size());
+  c.reached = r.voxel.size();
+  report(pol, c);
   return r;
 }
 }  // namespace detail
 
 /// Dense multi-source solve (backend hook; call geovoronoi::voronoi or geovoronoi::geodesic_solve).
+/// Labels are exact (tie rule) after a targeted repair pass; see detail/repair.hpp.
 template <class P>
 diagram<typename P::value_type, P::dim> backend_solve(const par_t& pol, const P& p,
                                                       const std::vector<source<typename P::value_type>>& s,
                                                       const solve_options& opt) {
-  auto d = detail::solve_on(::thrust::device, pol, p, s, opt);
-  ::geovoronoi::detail::repair_labels(p, d, s);  // exact tie labels; see detail/label_repair.hpp
-  return d;
+  return detail::solve_on(::thrust::device, pol, p, s, opt);
 }
 /// @copydoc backend_solve
 template <class E, class P>
 diagram<typename P::value_type, P::dim> backend_solve(const par_on_t<E>& pol, const P& p,
                                                       const std::vector<source<typename P::value_type>>& s,
                                                       const solve_options& opt) {
-  auto d = detail::solve_on(pol.exec, pol, p, s, opt);
-  ::geovoronoi::detail::repair_labels(p, d, s);  // exact tie labels; see detail/label_repair.hpp
-  return d;
+  return detail::solve_on(pol.exec, pol, p, s, opt);
 }
 
 /// Bounded (sparse) solve (backend hook; call geovoronoi::bounded_solve or single_source).
@@ -183,6 +181,27 @@ query_cells<typename P::value_type> backend_insert_queries(const par_on_t<E>& po
                                                            const diagram<typename P::value_type, P::dim>& d,
                                                            const std::vector<index_t>& q) {
   return detail::queries_on(pol.exec, pol, p, d, q);
+}
+
+/**
+ * @brief Host-side parallel loop (backend hook for code that loops over queries on the host, such as
+ *        the shape functions): calls f(i) for every i in [0, n).
+ *
+ * On the OpenMP and TBB systems the calls run concurrently on that system's threads (self-scheduled
+ * blocks); on the CPP system serially; on the CUDA system f is host code, so the loop runs on OpenMP
+ * threads when the translation unit is compiled with OpenMP, else serially. f must be safe to call
+ * concurrently for different i. If a call throws, calls not yet started are skipped and the first
+ * exception is rethrown here after every thread has finished.
+ */
+template <class F>
+void backend_host_parallel_for(const par_t& pol, index_t n, F&& f) {
+  (void)pol;
+  detail::host_parallel_for(::thrust::device, n, f);
+}
+/// @copydoc backend_host_parallel_for
+template <class E, class F>
+void backend_host_parallel_for(const par_on_t<E>& pol, index_t n, F&& f) {
+  detail::host_parallel_for(pol.exec, n, f);
 }
 
 }  // namespace thrust

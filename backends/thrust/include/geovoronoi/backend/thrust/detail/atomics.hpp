@@ -12,11 +12,16 @@
 
 namespace geovoronoi::thrust::detail {
 
-/// Queue state of a voxel: not queued, in the far pile, in the near list.
+/// Per-voxel flag word. Bits 0-1: queue state (not queued, in the far pile, in the near list).
+/// Bit 2: the voxel has been expanded before (set by its first expansion, never cleared in a run).
+/// Bit 3: suspect label (see expand_fn): the label repair pass starts from these voxels.
 using flag_t = std::uint32_t;
 inline constexpr flag_t idle = 0;
 inline constexpr flag_t queued_far = 1;
 inline constexpr flag_t queued_near = 2;
+inline constexpr flag_t state_mask = 3;
+inline constexpr flag_t expanded_bit = 4;
+inline constexpr flag_t suspect_bit = 8;
 
 GEOVORONOI_HOST_DEVICE inline flag_t flag_load(const flag_t* f) noexcept {
 #ifdef __CUDA_ARCH__
@@ -26,20 +31,58 @@ GEOVORONOI_HOST_DEVICE inline flag_t flag_load(const flag_t* f) noexcept {
 #endif
 }
 
-GEOVORONOI_HOST_DEVICE inline void flag_clear(flag_t* f) noexcept {
-#ifdef __CUDA_ARCH__
-  atomicExch(f, idle);
-  __threadfence();
-#else
-  __atomic_store_n(f, idle, __ATOMIC_SEQ_CST);
-#endif
-}
-
 GEOVORONOI_HOST_DEVICE inline bool flag_cas(flag_t* f, flag_t expect, flag_t want) noexcept {
 #ifdef __CUDA_ARCH__
   return atomicCAS(f, expect, want) == expect;
 #else
   return __atomic_compare_exchange_n(f, &expect, want, false, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST);
+#endif
+}
+
+/// Start of an expansion: clears the queue state and sets expanded_bit, atomically (neighbours may be
+/// re-queuing the voxel at the same time); returns the previous word. Sequentially consistent and
+/// done before the voxel's key is loaded, so a later drop of the key re-queues the voxel.
+GEOVORONOI_HOST_DEVICE inline flag_t flag_begin_expansion(flag_t* f) noexcept {
+  // one exchange; a suspect mark set before it is put back (one set after it lands on the new word,
+  // and a neighbour's compare-and-swap that raced with the put-back retries)
+#ifdef __CUDA_ARCH__
+  const flag_t old = atomicExch(f, expanded_bit);
+  if (old & suspect_bit) atomicOr(f, suspect_bit);
+  __threadfence();
+#else
+  const flag_t old = __atomic_exchange_n(f, expanded_bit, __ATOMIC_SEQ_CST);
+  if (old & suspect_bit) __atomic_fetch_or(f, suspect_bit, __ATOMIC_SEQ_CST);
+#endif
+  return old;
+}
+
+/// Moves the queue state to @p to if the current state satisfies @p from (other bits kept); true
+/// when this call made the change.
+template <class From>
+GEOVORONOI_HOST_DEVICE inline bool flag_transition(flag_t* f, From from, flag_t to) noexcept {
+  for (;;) {
+    const flag_t cur = flag_load(f);
+    if (!from(cur & state_mask)) return false;
+    if (flag_cas(f, cur, (cur & ~state_mask) | to)) return true;
+  }
+}
+
+struct from_idle {
+  GEOVORONOI_HOST_DEVICE bool operator()(flag_t s) const noexcept { return s == idle; }
+};
+struct from_far {
+  GEOVORONOI_HOST_DEVICE bool operator()(flag_t s) const noexcept { return s == queued_far; }
+};
+struct from_not_near {
+  GEOVORONOI_HOST_DEVICE bool operator()(flag_t s) const noexcept { return s != queued_near; }
+};
+
+/// Sets bit(s) @p b of the flag word.
+GEOVORONOI_HOST_DEVICE inline void flag_set_bits(flag_t* f, flag_t b) noexcept {
+#ifdef __CUDA_ARCH__
+  atomicOr(f, b);
+#else
+  __atomic_fetch_or(f, b, __ATOMIC_RELAXED);
 #endif
 }
 

@@ -32,33 +32,47 @@ struct engine_counts {
   std::uint64_t expansions = 0;  ///< voxels expanded (a voxel expanded twice counts twice)
   std::uint64_t rounds = 0;      ///< parallel expansion rounds
   std::uint64_t splits = 0;      ///< threshold raises (far-pile splits)
+  std::uint64_t reached = 0;     ///< voxels with a finite distance (filled by the solve, not the engine)
+  std::uint64_t suspects = 0;    ///< voxels marked for the label repair
+  std::uint64_t relabelled = 0;  ///< voxels whose label the repair recomputed (suspects and their heirs)
 };
 
 /// Grid extents for neighbour walks inside functors.
 struct extents3 {
   index_t nx, ny, nz;
+  bool small;  ///< fewer than 2^32 voxels: coordinates decode with 32-bit divisions
 };
 
 template <class P>
 extents3 extents_of(const P& p) noexcept {
-  return {p.geometry.extent(0), p.geometry.extent(1), P::dim == 3 ? p.geometry.extent(P::dim - 1) : 1};
+  return {p.geometry.extent(0), p.geometry.extent(1), P::dim == 3 ? p.geometry.extent(P::dim - 1) : 1,
+          p.geometry.size() <= index_t(UINT32_MAX)};
 }
 
 /// Calls f(k, v) for every neighbour v = u + offset k inside the grid.
 template <class P, class F>
 GEOVORONOI_HOST_DEVICE inline void for_each_neighbour(const P& p, const extents3& e, index_t u, F& f) {
-  const index_t nxy = e.nx * e.ny;
-  const index_t z = u / nxy;
-  const index_t r = u - z * nxy;
-  const index_t y = r / e.nx;
-  const index_t x = r - y * e.nx;
+  index_t x, y, z;
+  if (e.small) {
+    const std::uint32_t uu = std::uint32_t(u), nx = std::uint32_t(e.nx), nxy = std::uint32_t(e.nx * e.ny);
+    const std::uint32_t zz = uu / nxy, r = uu - zz * nxy, yy = r / nx;
+    x = index_t(r - yy * nx), y = index_t(yy), z = index_t(zz);
+  } else {
+    const index_t nxy = e.nx * e.ny;
+    z = u / nxy;
+    const index_t r = u - z * nxy;
+    y = r / e.nx;
+    x = r - y * e.nx;
+  }
   const bool interior =
       x > 0 && x < e.nx - 1 && y > 0 && y < e.ny - 1 && (P::dim == 2 || (z > 0 && z < e.nz - 1));
+  if (interior) {
+    for (int k = 0; k < P::neighbours; ++k) f(k, u + p.edges.delta[k]);
+    return;
+  }
   for (int k = 0; k < P::neighbours; ++k) {
-    if (!interior) {
-      const index_t xx = x + p.edges.offset[k][0], yy = y + p.edges.offset[k][1], zz = z + p.edges.offset[k][2];
-      if (xx < 0 || xx >= e.nx || yy < 0 || yy >= e.ny || zz < 0 || zz >= e.nz) continue;
-    }
+    const index_t xx = x + p.edges.offset[k][0], yy = y + p.edges.offset[k][1], zz = z + p.edges.offset[k][2];
+    if (xx < 0 || xx >= e.nx || yy < 0 || yy >= e.ny || zz < 0 || zz >= e.nz) continue;
     f(k, u + p.edges.delta[k]);
   }
 }
@@ -85,6 +99,7 @@ struct expand_fn {
 
   P p;
   extents3 ext;
+  index_t n;
   cell* keys;
   flag_t* flags;
   const index_t* list;
@@ -103,13 +118,30 @@ struct expand_fn {
     index_t a = 0, b = 0;
     for (index_t i = begin; i < end; ++i) {
       const index_t u = list[i];
-      flag_clear(flags + u);  // before the load: a later drop of u's key re-queues u
+#ifndef __CUDA_ARCH__
+      if (i + 2 < count) {  // prefetch the neighbourhood of the voxel expanded two steps ahead
+        const index_t w = list[i + 2];
+        const index_t nx = ext.nx, nxy = ext.nx * ext.ny;
+        for (int dz = P::dim == 3 ? -1 : 0; dz <= (P::dim == 3 ? 1 : 0); ++dz)
+          for (int dy = -1; dy <= 1; ++dy) {
+            const index_t c = w + dz * nxy + dy * nx;
+            if (c >= 1 && c + 1 < n) {
+              __builtin_prefetch(keys + c - 1, 1);
+              __builtin_prefetch(p.field + c - 1, 0);
+              __builtin_prefetch(flags + c - 1, 1);
+            }
+          }
+      }
+#endif
+      // before the load: a later drop of u's key re-queues u
+      const bool again = (flag_begin_expansion(flags + u) & expanded_bit) != 0;
       const auto ku = cell::load(keys + u);
       const T du = kt::distance(ku);
       const label_t lu = kt::label(ku);
       const T fu = p.field[u];
       auto relax = [&](int k, index_t v) {
-        if (!(ku < cell::load(keys + v))) return;  // weights are >= 0: v cannot improve
+        // weights are >= 0, so v cannot improve; a re-expansion still looks (suspect check below)
+        if (!again && !(ku < cell::load(keys + v))) return;
         const T fv = p.field[v];
         if (!geovoronoi::detail::inside<typename P::metric_type>(fv)) return;
         const T w = p.metric(p.edges.length[k], fu, fv);
@@ -119,18 +151,20 @@ struct expand_fn {
         }
         const T nd = du + w;
         if (!accept(v, nd)) return;
-        if (!cell::lower(keys + v, kt::make(nd, lu))) return;
+        if (!cell::lower(keys + v, kt::make(nd, lu))) {
+          // u was expanded before with a larger key. If v holds the distance u proposes now but a
+          // lower label, that label may have come from u's stale proposal (its sum rounding to the
+          // same float): the repair pass re-derives v's label (docs/backend-thrust.md).
+          if (again) {
+            const auto kv = cell::load(keys + v);
+            if (kt::distance(kv) == nd && kt::label(kv) < lu) flag_set_bits(flags + v, suspect_bit);
+          }
+          return;
+        }
         publish_fence();
         if (nd <= theta) {
-          for (;;) {
-            const flag_t f = flag_load(flags + v);
-            if (f == queued_near) break;
-            if (flag_cas(flags + v, f, queued_near)) {
-              stage[a++] = v;
-              break;
-            }
-          }
-        } else if (flag_load(flags + v) == idle && flag_cas(flags + v, idle, queued_far)) {
+          if (flag_transition(flags + v, from_not_near{}, queued_near)) stage[a++] = v;
+        } else if (flag_transition(flags + v, from_idle{}, queued_far)) {
           stage[top - 1 - b++] = v;
         }
       };
@@ -169,9 +203,9 @@ struct split_fn {
     index_t a = 0, b = 0;
     for (index_t i = begin; i < end; ++i) {
       const index_t v = list[i];
-      if (flag_load(flags + v) != queued_far) continue;
+      if ((flag_load(flags + v) & state_mask) != queued_far) continue;
       if (kt::distance(cell::load(keys + v)) <= theta) {
-        if (flag_cas(flags + v, queued_far, queued_near)) stage[a++] = v;
+        if (flag_transition(flags + v, from_far{}, queued_near)) stage[a++] = v;
       } else {
         stage[Chunk - 1 - b++] = v;
       }
@@ -194,7 +228,7 @@ struct far_distance {
   const flag_t* flags;
   T inf;
   GEOVORONOI_HOST_DEVICE T operator()(index_t v) const {
-    if (flag_load(flags + v) != queued_far) return inf;
+    if ((flag_load(flags + v) & state_mask) != queued_far) return inf;
     return geovoronoi::detail::key_traits<T>::distance(key_cell<T>::load(keys + v));
   }
 };
@@ -213,7 +247,8 @@ struct far_within {
   GEOVORONOI_HOST_DEVICE index_t operator()(index_t v) const { return d(v) <= theta ? 1 : 0; }
 };
 
-/// Candidate windows: delta_0 = 0, delta_k = base * 2^(k-1).
+/// CUDA system: candidate windows delta_0 = 0, delta_k = base * 2^(k-1) above the smallest queued
+/// distance; theta is the narrowest holding `target` entries (one counting reduction per window).
 inline constexpr int windows = 64;
 
 template <class T>
@@ -221,55 +256,30 @@ T window(T base, int k) noexcept {
   return k == 0 ? T(0) : std::ldexp(base, k - 1);
 }
 
-/// Host systems: per-block smallest and largest queued distance, and per-block counts of the
-/// smallest window holding each entry (one pass each over the far pile).
+/// Host systems: theta from a sample of the far pile. Reads up to `samples` evenly spaced entries
+/// (no pass over the pile), and returns the sampled distance below which about `target` of the
+/// live entries lie. Returns false when every sampled entry was stale. Only the work per round
+/// depends on theta, never the result.
 template <class T>
-struct far_range_fn {
-  far_distance<T> d;
-  const index_t* list;
-  index_t count;
-  index_t block;
-  T* lo;
-  T* hi;
-  void operator()(index_t j) const {
-    T l = d.inf, h = T(-1);
-    const index_t end = std::min(count, (j + 1) * block);
-    for (index_t i = j * block; i < end; ++i) {
-      const T x = d(list[i]);
-      if (x < l) l = x;
-      if (x != d.inf && x > h) h = x;
-    }
-    lo[j] = l;
-    hi[j] = h;
+bool sample_theta(const key_cell<T>* keys, const flag_t* flags, const index_t* list, index_t size, index_t target,
+                  std::vector<T>& scratch, T& theta) {
+  constexpr index_t samples = 1024;
+  const index_t s = std::min(size, samples);
+  scratch.clear();
+  for (index_t i = 0; i < s; ++i) {
+    const index_t v = list[i * size / s];
+    if ((flag_load(flags + v) & state_mask) == queued_far)
+      scratch.push_back(geovoronoi::detail::key_traits<T>::distance(key_cell<T>::load(keys + v)));
   }
-};
-template <class T>
-struct far_histogram_fn {
-  far_distance<T> d;
-  const index_t* list;
-  index_t count;
-  index_t block;
-  T lo;
-  T base;
-  index_t* hist;  // windows per block
-  void operator()(index_t j) const {
-    index_t* h = hist + j * windows;
-    for (int k = 0; k < windows; ++k) h[k] = 0;
-    const index_t end = std::min(count, (j + 1) * block);
-    for (index_t i = j * block; i < end; ++i) {
-      const T x = d(list[i]);
-      if (x == d.inf) continue;
-      int k = 0;
-      if (x > lo) {
-        const T r = (x - lo) / base;
-        k = r < T(1) ? 1 : std::min(windows - 1, std::ilogb(r) + 1);
-        while (k > 1 && x <= lo + window(base, k - 1)) --k;
-        while (k < windows - 1 && !(x <= lo + window(base, k))) ++k;
-      }
-      ++h[k];
-    }
-  }
-};
+  if (scratch.empty()) return false;
+  const index_t live = static_cast<index_t>(scratch.size());
+  // rank of the target-th smallest live entry, scaled from the pile to the sample
+  const double frac = double(target) / double(size);
+  const index_t rank = std::min<index_t>(live - 1, static_cast<index_t>(frac * double(live)));
+  std::nth_element(scratch.begin(), scratch.begin() + rank, scratch.end());
+  theta = scratch[static_cast<std::size_t>(rank)];
+  return true;
+}
 
 template <class V>
 void grow(V& v, index_t need) {
@@ -282,10 +292,39 @@ void set_sizes(vec<Exec, index_t>& sizes, index_t a, index_t b) {
   sizes[1] = b;
 }
 
+/// CUDA system: theta = smallest queued far distance + the narrowest window holding `target`
+/// entries. False when every far entry is stale.
+template <class Exec, class T>
+bool window_theta(const Exec& exec, const key_cell<T>* keys, const flag_t* flags, const index_t* fl, index_t far_size,
+                  index_t target, T& theta) {
+  const T inf = std::numeric_limits<T>::infinity();
+  const far_distance<T> fd{keys, flags, inf};
+  const T lo = ::thrust::transform_reduce(exec, fl, fl + far_size, fd, inf, ::thrust::minimum<T>());
+  if (!(lo < inf)) return false;
+  const T hi =
+      ::thrust::transform_reduce(exec, fl, fl + far_size, far_distance_or_low<T>{fd}, T(-1), ::thrust::maximum<T>());
+  const T spread = hi - lo;
+  const T base = spread > T(0) ? std::max(std::ldexp(spread, -(windows - 8)), std::numeric_limits<T>::min()) : T(1);
+  int pick = windows - 1;
+  for (int k = 0; k < windows; ++k) {
+    const index_t c = ::thrust::transform_reduce(exec, fl, fl + far_size, far_within<T>{fd, lo + window(base, k)},
+                                                 index_t(0), ::thrust::plus<index_t>());
+    if (c >= target || !(lo + window(base, k) < hi)) {
+      pick = k;
+      break;
+    }
+  }
+  theta = lo + window(base, pick);
+  return true;
+}
+
 /**
  * Runs the engine until no voxel is queued. On entry, keys hold the sources' keys (unreached
  * elsewhere), flags are idle except for the voxels listed in @p far (queued_far). accept(v, nd)
  * filters candidates exactly like the sequential engine's accept.
+ *
+ * Per threshold raise: one parallel split of the far pile (theta from a sample on host systems);
+ * per round: one parallel expansion step. Small steps run on the calling thread (parallel_for).
  */
 template <class Exec, class P, class Accept>
 engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>* keys, flag_t* flags,
@@ -302,70 +341,35 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
 
   vec<Exec, index_t> near, next, far2, sizes(2);
   vec<Exec, int> error(1, 0);
-  std::vector<T> lo_part, hi_part;
-  std::vector<index_t> hist;
+  std::vector<T> scratch;
+  host_pacing pace;
   engine_counts counts;
   index_t near_size = 0;
   T theta = T(0);
-  const T inf = std::numeric_limits<T>::infinity();
 
   while (near_size > 0 || far_size > 0) {
     if (near_size == 0) {
-      // raise theta: the smallest queued distance plus the narrowest window holding `target` voxels
-      const far_distance<T> fd{keys, flags, inf};
+      // raise theta and split the far pile; when only stale entries were seen, a split with a theta
+      // below every distance compacts the pile (drops the stale entries) and the loop samples again
       const index_t* fl = raw(far);
-      T lo = inf, hi = T(-1);
-      const index_t blocks = std::max<index_t>(1, std::min<index_t>(256, far_size / 1024));
-      const index_t block = (far_size + blocks - 1) / blocks;
-      if constexpr (device) {
-        lo = ::thrust::transform_reduce(exec, fl, fl + far_size, fd, inf, ::thrust::minimum<T>());
-        hi = ::thrust::transform_reduce(exec, fl, fl + far_size, far_distance_or_low<T>{fd}, T(-1),
-                                        ::thrust::maximum<T>());
-      } else {
-        lo_part.assign(static_cast<std::size_t>(blocks), inf);
-        hi_part.assign(static_cast<std::size_t>(blocks), T(-1));
-        parallel_for(exec, blocks, far_range_fn<T>{fd, fl, far_size, block, lo_part.data(), hi_part.data()}, far_size);
-        for (index_t j = 0; j < blocks; ++j) {
-          lo = std::min(lo, lo_part[j]);
-          hi = std::max(hi, hi_part[j]);
-        }
-      }
-      if (!(lo < inf)) {  // every entry was stale
+      T next_theta = T(0);
+      bool live = false;
+      if constexpr (device)
+        live = window_theta(exec, keys, flags, fl, far_size, target, next_theta);
+      else
+        live = sample_theta(keys, flags, fl, far_size, target, scratch, next_theta);
+      const T split_at = live ? next_theta : -std::numeric_limits<T>::infinity();
+      if (live) theta = next_theta;
+      if (device && !live) {  // the device check above scanned the whole pile: nothing is queued
         far_size = 0;
         continue;
       }
-      const T spread = hi - lo;
-      const T base = spread > T(0) ? std::max(std::ldexp(spread, -(windows - 8)), std::numeric_limits<T>::min()) : T(1);
-      int pick = windows - 1;
-      if constexpr (device) {
-        for (int k = 0; k < windows; ++k) {
-          const index_t c = ::thrust::transform_reduce(exec, fl, fl + far_size,
-                                                       far_within<T>{fd, lo + window(base, k)}, index_t(0),
-                                                       ::thrust::plus<index_t>());
-          if (c >= target || !(lo + window(base, k) < hi)) {
-            pick = k;
-            break;
-          }
-        }
-      } else {
-        hist.assign(static_cast<std::size_t>(blocks * windows), 0);
-        parallel_for(exec, blocks, far_histogram_fn<T>{fd, fl, far_size, block, lo, base, hist.data()}, far_size);
-        index_t c = 0;
-        for (int k = 0; k < windows; ++k) {
-          for (index_t j = 0; j < blocks; ++j) c += hist[j * windows + k];
-          if (c >= target || !(lo + window(base, k) < hi)) {
-            pick = k;
-            break;
-          }
-        }
-      }
-      theta = lo + window(base, pick);
       grow(near, std::min(n, far_size));
       grow(far2, far_size);
       set_sizes<Exec>(sizes, 0, 0);
       parallel_for(exec, (far_size + split_chunk - 1) / split_chunk,
-                   split_fn<T, split_chunk>{keys, flags, fl, far_size, raw(near), raw(far2), raw(sizes), theta},
-                   far_size);
+                   split_fn<T, split_chunk>{keys, flags, fl, far_size, raw(near), raw(far2), raw(sizes), split_at},
+                   far_size, &pace);
       near_size = read<Exec>(raw(sizes));
       far_size = read<Exec>(raw(sizes) + 1);
       using std::swap;
@@ -381,9 +385,9 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
       grow(far, far_size + cnt * N);
       set_sizes<Exec>(sizes, next_size, far_size);
       parallel_for(exec, (cnt + chunk - 1) / chunk,
-                   expand_fn<P, Accept, chunk>{p, ext, keys, flags, raw(near) + s, cnt, raw(next), raw(far), raw(sizes),
+                   expand_fn<P, Accept, chunk>{p, ext, n, keys, flags, raw(near) + s, cnt, raw(next), raw(far), raw(sizes),
                                                theta, accept, raw(error)},
-                   cnt * N);
+                   cnt * N, &pace);
       next_size = read<Exec>(raw(sizes));
       far_size = read<Exec>(raw(sizes) + 1);
       counts.expansions += static_cast<std::uint64_t>(cnt);

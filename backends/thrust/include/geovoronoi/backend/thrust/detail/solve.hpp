@@ -2,10 +2,17 @@
 // Dense and bounded solves on the near-far engine.
 
 #include <geovoronoi/backend/thrust/detail/near_far.hpp>
+#include <geovoronoi/backend/thrust/detail/repair.hpp>
 #include <geovoronoi/image.hpp>
 #include <geovoronoi/result.hpp>
 
+#include <thrust/count.h>
 #include <thrust/fill.h>
+
+#ifdef __CUDACC__
+#include <thrust/copy.h>
+#include <thrust/iterator/counting_iterator.h>
+#endif
 
 #include <algorithm>
 #include <cstddef>
@@ -53,6 +60,86 @@ struct unpack_fn {
   }
 };
 
+/// Host systems: unpack_fn over chunks of voxels, also counting each chunk's reached and suspect
+/// voxels (counts[2j], counts[2j+1]).
+template <class T>
+struct unpack_chunk_fn {
+  unpack_fn<T> unpack;
+  const flag_t* flags;
+  index_t n;
+  index_t chunk;
+  index_t* counts;
+  void operator()(index_t j) const {
+    const index_t begin = j * chunk, end = std::min(n, begin + chunk);
+    index_t reached = 0, suspects = 0;
+    for (index_t v = begin; v < end; ++v) {
+      unpack(v);
+      reached += unpack.label[v] != no_label;
+      suspects += (flags[v] & suspect_bit) != 0;
+    }
+    counts[2 * j] = reached;
+    counts[2 * j + 1] = suspects;
+  }
+};
+
+/// Host systems: per-chunk count of suspect voxels.
+struct count_suspects_fn {
+  const flag_t* flags;
+  index_t n;
+  index_t chunk;
+  index_t* counts;
+  void operator()(index_t j) const {
+    const index_t begin = j * chunk, end = std::min(n, begin + chunk);
+    index_t c = 0;
+    for (index_t v = begin; v < end; ++v) c += (flags[v] & suspect_bit) != 0;
+    counts[j] = c;
+  }
+};
+
+struct is_suspect {
+  GEOVORONOI_HOST_DEVICE bool operator()(flag_t f) const noexcept { return (f & suspect_bit) != 0; }
+};
+
+/// Host systems: the suspect voxels of the chunks whose count is non-zero (normally few).
+inline std::vector<index_t> gather_suspects(const flag_t* flags, index_t n, index_t chunk, const index_t* counts,
+                                            index_t stride) {
+  std::vector<index_t> out;
+  const index_t chunks = (n + chunk - 1) / chunk;
+  for (index_t j = 0; j < chunks; ++j) {
+    if (counts[j * stride] == 0) continue;
+    const index_t begin = j * chunk, end = std::min(n, begin + chunk);
+    for (index_t v = begin; v < end; ++v)
+      if (flags[v] & suspect_bit) out.push_back(v);
+  }
+  return out;
+}
+
+/// The voxels the engine marked suspect, on the host, in increasing index.
+template <class Exec>
+std::vector<index_t> collect_suspects(const Exec& exec, const flag_t* flags, index_t n) {
+  if constexpr (is_cuda_policy_v<Exec>) {
+#ifdef __CUDACC__
+    const auto dev = ::thrust::device_pointer_cast(flags);
+    const index_t c = static_cast<index_t>(::thrust::count_if(exec, dev, dev + n, is_suspect{}));
+    std::vector<index_t> out(static_cast<std::size_t>(c));
+    if (c == 0) return out;
+    vec<Exec, index_t> list(static_cast<std::size_t>(c));
+    ::thrust::copy_if(exec, ::thrust::counting_iterator<index_t>(0), ::thrust::counting_iterator<index_t>(n), dev,
+                      list.begin(), is_suspect{});
+    ::thrust::copy(list.begin(), list.end(), out.begin());
+    return out;
+#else
+    return {};
+#endif
+  } else {
+    const index_t chunk = 16384;
+    const index_t chunks = (n + chunk - 1) / chunk;
+    std::vector<index_t> counts(static_cast<std::size_t>(chunks));
+    parallel_for(exec, chunks, count_suspects_fn{flags, n, chunk, counts.data()}, n);
+    return gather_suspects(flags, n, chunk, counts.data(), 1);
+  }
+}
+
 /// Working state of one engine run over the whole grid.
 template <class Exec, class T>
 struct dense_state {
@@ -91,6 +178,7 @@ void seed(const Exec& exec, dense_state<Exec, T>& st, index_t n, const std::vect
   parallel_for(exec, st.far_size, seed_fn<T>{raw(vv), raw(kv), raw(st.keys), raw(st.flags)}, st.far_size);
 }
 
+/// Dense solve: distance and label images, labels repaired (see repair.hpp).
 template <class Exec, class P>
 diagram<typename P::value_type, P::dim> solve(const Exec& exec, const P& p,
                                               const std::vector<source<typename P::value_type>>& sources,
@@ -105,6 +193,7 @@ diagram<typename P::value_type, P::dim> solve(const Exec& exec, const P& p,
   d.distance = image<T, P::dim>(p.geometry, T(0));
   d.label = image<label_t, P::dim>(p.geometry, no_label);
   const T inf = std::numeric_limits<T>::infinity();
+  std::vector<index_t> suspects;
   if constexpr (is_cuda_policy_v<Exec>) {
 #ifdef __CUDACC__
     vec<Exec, T> dist(static_cast<std::size_t>(n));
@@ -112,10 +201,21 @@ diagram<typename P::value_type, P::dim> solve(const Exec& exec, const P& p,
     parallel_for(exec, n, unpack_fn<T>{raw(st.keys), raw(dist), raw(lab), inf}, n);
     ::thrust::copy(dist.begin(), dist.end(), d.distance.data());
     ::thrust::copy(lab.begin(), lab.end(), d.label.data());
+    suspects = collect_suspects(exec, raw(st.flags), n);
+    for (index_t v = 0; v < n; ++v) counts.reached += d.label[v] != no_label;
 #endif
   } else {
-    parallel_for(exec, n, unpack_fn<T>{raw(st.keys), d.distance.data(), d.label.data(), inf}, n);
+    const index_t chunk = 16384;
+    const index_t chunks = (n + chunk - 1) / chunk;
+    std::vector<index_t> c(static_cast<std::size_t>(2 * chunks));
+    const unpack_fn<T> unpack{raw(st.keys), d.distance.data(), d.label.data(), inf};
+    parallel_for(exec, chunks, unpack_chunk_fn<T>{unpack, raw(st.flags), n, chunk, c.data()}, n);
+    for (index_t j = 0; j < chunks; ++j) counts.reached += static_cast<std::uint64_t>(c[2 * j]);
+    suspects = gather_suspects(raw(st.flags), n, chunk, c.data() + 1, 2);
   }
+  counts.suspects = suspects.size();
+  dense_labels<T> store{d.distance.data(), d.label.data(), n};
+  counts.relabelled = repair_labels(p, store, sources, std::move(suspects));
   return d;
 }
 
@@ -199,7 +299,13 @@ sparse_solution<typename P::value_type> bounded(const Exec& exec, const P& p,
   dense_state<Exec, T> st;
   seed(exec, st, n, sources, [radius](const source<T>& s) { return s.distance < radius; });
   counts = run(exec, p, raw(st.keys), raw(st.flags), st.far, st.far_size, below_radius<T>{radius}, target);
-  return extract(exec, raw(st.keys), n);
+  auto r = extract(exec, raw(st.keys), n);
+  counts.reached = r.size();
+  auto suspects = collect_suspects(exec, raw(st.flags), n);
+  counts.suspects = suspects.size();
+  sparse_labels<T> store{r.voxel.data(), r.distance.data(), r.label.data(), static_cast<index_t>(r.size())};
+  counts.relabelled = repair_labels(p, store, sources, std::move(suspects));
+  return r;
 }
 
 }  // namespace geovoronoi::thrust::detail

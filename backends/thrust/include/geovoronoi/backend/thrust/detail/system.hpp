@@ -10,6 +10,8 @@
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/scan.h>
 
+#include <chrono>
+#include <cstdint>
 #include <type_traits>
 #include <vector>
 
@@ -99,43 +101,88 @@ bool go_parallel(index_t work) noexcept {
   return is_cuda_policy_v<Exec> || work >= host_grain;
 }
 
+/// Nanoseconds of a monotonic clock (host).
+inline std::int64_t host_clock_ns() noexcept {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
 /// Host systems: a few worker slots that take blocks of indices from a shared counter. Thrust's
 /// OpenMP for_each splits its range statically, so one descheduled thread (a loaded machine) would
-/// hold up the whole step; with self-scheduling the other threads take its share.
+/// hold up the whole step; with self-scheduling the other threads take its share. The first slot
+/// that finds no block left records the time (for host_pacing).
 template <class F>
 struct self_scheduled {
   F f;
   index_t n;
   index_t block;
   index_t* next;
+  std::int64_t* first_idle;
   void operator()(index_t) const {
     for (;;) {
       const index_t b = __atomic_fetch_add(next, index_t(1), __ATOMIC_RELAXED);
       const index_t begin = b * block;
-      if (begin >= n) return;
+      if (begin >= n) {
+        std::int64_t none = 0;
+        if (__atomic_load_n(first_idle, __ATOMIC_RELAXED) == 0)
+          __atomic_compare_exchange_n(first_idle, &none, host_clock_ns(), false, __ATOMIC_RELAXED, __ATOMIC_RELAXED);
+        return;
+      }
       const index_t end = begin + block < n ? begin + block : n;
       for (index_t i = begin; i < end; ++i) f(i);
     }
   }
 };
 
-/// Call f(i) for i in [0, n) on the policy's system (on the calling thread when @p work is small).
+/**
+ * Host systems: how the steps of one engine run are spread over threads when the machine is shared.
+ *
+ * A parallel step ends only when every thread of the team has reached its end. When another
+ * process holds a core, a thread of the team may wait for a time slice (milliseconds) while the
+ * others, having taken all the work, wait for it; an engine run has hundreds of steps, so this can
+ * cost seconds (OpenMP threads that spin-wait make it worse). After a step in which the work was
+ * done and the team then waited more than half the step and over 0.5 ms for a thread to arrive,
+ * the next `backoff` steps run on the calling thread alone, and the backoff doubles while that
+ * keeps happening (up to 256 steps); a step without such a wait resets it. On a quiet machine
+ * nothing changes. The result never depends on it.
+ */
+struct host_pacing {
+  int serial_left = 0;
+  int backoff = 8;
+};
+
+/// Call f(i) for i in [0, n) on the policy's system (on the calling thread when @p work is small,
+/// or when @p pace says the team is being held up).
 template <class Exec, class F>
-void parallel_for(const Exec& exec, index_t n, const F& f, index_t work) {
+void parallel_for(const Exec& exec, index_t n, const F& f, index_t work, host_pacing* pace = nullptr) {
   if (n <= 0) return;
   if constexpr (is_cuda_policy_v<Exec>) {
     (void)work;
+    (void)pace;
     ::thrust::for_each(exec, ::thrust::counting_iterator<index_t>(0), ::thrust::counting_iterator<index_t>(n), f);
   } else {
-    if (!go_parallel<Exec>(work)) {
+    if (!go_parallel<Exec>(work) || (pace && pace->serial_left > 0)) {
+      if (pace && pace->serial_left > 0 && go_parallel<Exec>(work)) --pace->serial_left;
       for (index_t i = 0; i < n; ++i) f(i);
       return;
     }
     const index_t slots = n < 64 ? n : 64;
     const index_t block = (n + 511) / 512;
     index_t next = 0;
+    std::int64_t first_idle = 0;
+    const std::int64_t start = pace ? host_clock_ns() : 0;
     ::thrust::for_each(exec, ::thrust::counting_iterator<index_t>(0), ::thrust::counting_iterator<index_t>(slots),
-                       self_scheduled<F>{f, n, block, &next});
+                       self_scheduled<F>{f, n, block, &next, &first_idle});
+    if (pace) {
+      const std::int64_t stop = host_clock_ns();
+      const std::int64_t waited = first_idle ? stop - first_idle : 0;
+      if (waited > 500000 && 2 * waited > stop - start) {
+        pace->serial_left = pace->backoff;
+        pace->backoff = pace->backoff < 256 ? 2 * pace->backoff : 256;
+      } else {
+        pace->backoff = 8;
+      }
+    }
   }
 }
 
