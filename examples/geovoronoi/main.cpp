@@ -84,12 +84,13 @@ const std::string& cuda_problem() {
 }
 
 /// The default backend, the fastest one built that can run here (docs/cli.md): cuda when it is
-/// built and a CUDA device answers, else seq. The Thrust backend is never the default: the tool
-/// builds it on OpenMP host threads, where it measured slower than the sequential Dijkstra
-/// (docs/benchmarks.md: 414 ms vs 316 ms on 128^3 with 2 threads; the whole `voronoi` command on the
-/// demo's steak, reading and writing included: 0.41-1.57 s vs 0.14-0.19 s, shared 2-core machine).
+/// built and a CUDA device answers; else thrust (OpenMP host threads) when it is built and the
+/// machine has more than one hardware thread; else seq. Measured on a 2-core machine
+/// (docs/benchmarks.md, 2026-11-23): thrust_omp with 2 threads solves the 128^3 gradient case in
+/// 173 ms against 340 ms for seq, Table 1 Sibson in 0.85 s against 1.51 s.
 std::string default_backend() {
   if (GV_CLI_HAVE_CUDA && cuda_problem().empty()) return "cuda";
+  if (GV_CLI_HAVE_THRUST && std::thread::hardware_concurrency() > 1) return "thrust";
   return "seq";
 }
 

@@ -146,9 +146,16 @@ endforeach()
 if("cuda" IN_LIST BUILT AND NOT OUT_backends MATCHES "(^|\n)cuda +[^\n]*unusable here")
   set(cuda_usable ON)
 endif()
-# the documented default: cuda when built and a device answers, else seq
+# the documented default: cuda when built and a device answers, else thrust when built on more than
+# one hardware thread, else seq
+set(threads 1)
+if(OUT_backends MATCHES "(^|\n)thrust +built, OpenMP on ([0-9]+) hardware threads")
+  set(threads ${CMAKE_MATCH_2})
+endif()
 if(cuda_usable)
   set(want_default cuda)
+elseif("thrust" IN_LIST BUILT AND threads GREATER 1)
+  set(want_default thrust)
 else()
   set(want_default seq)
 endif()

@@ -9,6 +9,7 @@
 #include <geovoronoi/detail/key.hpp>
 #include <geovoronoi/detail/radix_heap.hpp>
 #include <geovoronoi/detail/seq/dijkstra.hpp>
+#include <geovoronoi/detail/seq/sparse.hpp>
 #include <geovoronoi/result.hpp>
 
 #include <algorithm>
@@ -32,35 +33,13 @@ struct query_block_fn {
 
   void operator()(index_t b) const {
     namespace eng = geovoronoi::detail::seq_engine;
-    using kt = geovoronoi::detail::key_traits<T>;
     query_cells<T>& o = out[b];
     try {
-      eng::sparse_keys<T> st;
-      st.f = p->field;
-      geovoronoi::detail::radix_heap<T> heap;
-      const T* dist = d->distance.data();
-      std::vector<std::pair<index_t, typename kt::key_type>> cell;
+      // the sequential engine's paged sparse search, one scratch per block (its page table costs one
+      // pointer per 64 voxels of the grid)
+      eng::sparse_scratch<T> s;
       const index_t end = std::min(count, (b + 1) * block);
-      for (index_t i = b * block; i < end; ++i) {
-        const index_t q = queries[i];
-        o.query.push_back(q);
-        st.map.reset(cell.size() + 16);
-        heap.clear();
-        if (T(0) < dist[q]) {
-          st.set(q, kt::make(T(0), 0));
-          heap.push(kt::make(T(0), 0), q);
-        }
-        eng::run(*p, st, heap, [dist](index_t u, T nd) { return nd < dist[u]; });
-        cell.clear();
-        st.map.for_each([&](index_t v, const typename kt::key_type& k) { cell.push_back({v, k}); });
-        std::sort(cell.begin(), cell.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-        for (const auto& [v, k] : cell) {
-          o.voxel.push_back(v);
-          o.distance.push_back(kt::distance(k));
-          o.owner.push_back(d->label[v]);
-        }
-        o.offsets.push_back(o.voxel.size());
-      }
+      eng::insert_queries(*p, s.keys, s.heap, *d, queries + b * block, std::size_t(end - b * block), o);
     } catch (...) {
       error[b] = std::current_exception();
     }
