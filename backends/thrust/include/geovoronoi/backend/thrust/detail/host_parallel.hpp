@@ -82,8 +82,9 @@ void host_parallel_for(const Exec& exec, index_t n, F& f) {
   const guarded_call<F> call{&f, &err};
   constexpr host_threads how = host_threads_of<Exec>();
   if constexpr (how == host_threads::policy) {
-    // every index counts as a large step: per-query work dwarfs waking the threads
-    parallel_for(exec, n, call, n * host_grain);
+    // every index counts as a large step (per-query work dwarfs waking the threads), and the loop
+    // is one long step, so the pacing of short engine steps does not apply
+    parallel_for(exec, n, call, n * host_grain, false);
   } else if constexpr (how == host_threads::openmp) {
     (void)exec;
 #ifdef _OPENMP

@@ -70,7 +70,7 @@ query_cells<typename P::value_type> insert_queries(const Exec& exec, const P& p,
     std::vector<std::exception_ptr> errors(static_cast<std::size_t>(blocks));
     for (auto& part : parts) part.offsets = {0};
     parallel_for(exec, blocks, query_block_fn<P>{&p, &d, queries.data(), nq, block, parts.data(), errors.data()},
-                 nq * 64);
+                 nq * 64, false);
     for (const auto& e : errors)
       if (e) std::rethrow_exception(e);
     std::size_t total = 0;

@@ -342,7 +342,6 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
   vec<Exec, index_t> near, next, far2, sizes(2);
   vec<Exec, int> error(1, 0);
   std::vector<T> scratch;
-  host_pacing pace;
   engine_counts counts;
   index_t near_size = 0;
   T theta = T(0);
@@ -369,7 +368,7 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
       set_sizes<Exec>(sizes, 0, 0);
       parallel_for(exec, (far_size + split_chunk - 1) / split_chunk,
                    split_fn<T, split_chunk>{keys, flags, fl, far_size, raw(near), raw(far2), raw(sizes), split_at},
-                   far_size, &pace);
+                   far_size);
       near_size = read<Exec>(raw(sizes));
       far_size = read<Exec>(raw(sizes) + 1);
       using std::swap;
@@ -387,7 +386,7 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
       parallel_for(exec, (cnt + chunk - 1) / chunk,
                    expand_fn<P, Accept, chunk>{p, ext, n, keys, flags, raw(near) + s, cnt, raw(next), raw(far), raw(sizes),
                                                theta, accept, raw(error)},
-                   cnt * N, &pace);
+                   cnt * N);
       next_size = read<Exec>(raw(sizes));
       far_size = read<Exec>(raw(sizes) + 1);
       counts.expansions += static_cast<std::uint64_t>(cnt);

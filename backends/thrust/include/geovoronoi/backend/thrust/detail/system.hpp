@@ -10,6 +10,7 @@
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/scan.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <type_traits>
@@ -93,7 +94,7 @@ index_t exclusive_scan(const Exec& exec, index_t* counts, index_t n) {
 
 /// Work (in voxel visits) below which a host system runs a step on the calling thread: waking a
 /// thread team costs more than a small step, and much more on a loaded machine.
-inline constexpr index_t host_grain = 4096;
+inline constexpr index_t host_grain = 32768;
 
 /// Whether a step of @p work voxel visits should run in parallel on @p Exec's system.
 template <class Exec>
@@ -135,34 +136,59 @@ struct self_scheduled {
 };
 
 /**
- * Host systems: how the steps of one engine run are spread over threads when the machine is shared.
+ * Host systems: how parallel steps are spread over threads when the machine is shared.
  *
  * A parallel step ends only when every thread of the team has reached its end. When another
  * process holds a core, a thread of the team may wait for a time slice (milliseconds) while the
- * others, having taken all the work, wait for it; an engine run has hundreds of steps, so this can
- * cost seconds (OpenMP threads that spin-wait make it worse). After a step in which the work was
- * done and the team then waited more than half the step and over 0.5 ms for a thread to arrive,
- * the next `backoff` steps run on the calling thread alone, and the backoff doubles while that
- * keeps happening (up to 256 steps); a step without such a wait resets it. On a quiet machine
- * nothing changes. The result never depends on it.
+ * others, having taken all the work, wait for it; a solve has hundreds of steps, so this can cost
+ * seconds (OpenMP threads that spin-wait make it worse). After a step in which the work was done
+ * and the team then waited more than half the step and over 0.5 ms for a thread to arrive, the next
+ * `backoff` steps run on the calling thread alone, and the backoff doubles while that keeps
+ * happening (up to 256 steps); a step without such a wait resets it. The state is process-wide (a
+ * busy machine stays busy from one solve to the next), updated with relaxed atomics: it is a
+ * scheduling hint, and the results never depend on it. On a quiet machine nothing changes.
  */
 struct host_pacing {
-  int serial_left = 0;
-  int backoff = 8;
+  std::atomic<int> serial_left{0};
+  std::atomic<int> backoff{8};
+
+  /// Whether the next step should run on the calling thread (consumes one serial step).
+  bool take_serial() noexcept {
+    int left = serial_left.load(std::memory_order_relaxed);
+    while (left > 0)
+      if (serial_left.compare_exchange_weak(left, left - 1, std::memory_order_relaxed)) return true;
+    return false;
+  }
+  /// Record how a parallel step went.
+  void observe(std::int64_t start, std::int64_t first_idle, std::int64_t stop) noexcept {
+    const std::int64_t waited = first_idle ? stop - first_idle : 0;
+    if (waited > 500000 && 2 * waited > stop - start) {
+      const int b = backoff.load(std::memory_order_relaxed);
+      serial_left.store(b, std::memory_order_relaxed);
+      backoff.store(b < 256 ? 2 * b : 256, std::memory_order_relaxed);
+    } else {
+      backoff.store(8, std::memory_order_relaxed);
+    }
+  }
 };
 
+inline host_pacing& process_pacing() noexcept {
+  static host_pacing p;
+  return p;
+}
+
 /// Call f(i) for i in [0, n) on the policy's system (on the calling thread when @p work is small,
-/// or when @p pace says the team is being held up).
+/// or, for a @p paced step, when host_pacing says the team is being held up).
 template <class Exec, class F>
-void parallel_for(const Exec& exec, index_t n, const F& f, index_t work, host_pacing* pace = nullptr) {
+void parallel_for(const Exec& exec, index_t n, const F& f, index_t work, bool paced = true) {
   if (n <= 0) return;
   if constexpr (is_cuda_policy_v<Exec>) {
     (void)work;
-    (void)pace;
+    (void)paced;
     ::thrust::for_each(exec, ::thrust::counting_iterator<index_t>(0), ::thrust::counting_iterator<index_t>(n), f);
   } else {
-    if (!go_parallel<Exec>(work) || (pace && pace->serial_left > 0)) {
-      if (pace && pace->serial_left > 0 && go_parallel<Exec>(work)) --pace->serial_left;
+    host_pacing& pace = process_pacing();
+    if (!go_parallel<Exec>(work) || (paced && pace.take_serial())) {
       for (index_t i = 0; i < n; ++i) f(i);
       return;
     }
@@ -170,19 +196,10 @@ void parallel_for(const Exec& exec, index_t n, const F& f, index_t work, host_pa
     const index_t block = (n + 511) / 512;
     index_t next = 0;
     std::int64_t first_idle = 0;
-    const std::int64_t start = pace ? host_clock_ns() : 0;
+    const std::int64_t start = host_clock_ns();
     ::thrust::for_each(exec, ::thrust::counting_iterator<index_t>(0), ::thrust::counting_iterator<index_t>(slots),
                        self_scheduled<F>{f, n, block, &next, &first_idle});
-    if (pace) {
-      const std::int64_t stop = host_clock_ns();
-      const std::int64_t waited = first_idle ? stop - first_idle : 0;
-      if (waited > 500000 && 2 * waited > stop - start) {
-        pace->serial_left = pace->backoff;
-        pace->backoff = pace->backoff < 256 ? 2 * pace->backoff : 256;
-      } else {
-        pace->backoff = 8;
-      }
-    }
+    if (paced) pace.observe(start, first_idle, host_clock_ns());
   }
 }
 
