@@ -262,3 +262,15 @@ TEST_CASE("metaimage: every truncation of a valid file is rejected cleanly") {
     CHECK_THROWS_AS(gio::read_metaimage<float>(scratch("cut.mha")), gio::io_error);
   }
 }
+
+TEST_CASE("metaimage: a data file that is a directory is an error, not a huge allocation (fuzzer find)") {
+  // ElementDataFile = / once made read_file() size a directory as a file and ask for exabytes
+  std::filesystem::create_directories(scratch("a-directory"));
+  io_test::write_text(scratch("dirdata.mhd"),
+                      "ObjectType = Image\nNDims = 2\nDimSize = 2 1\nElementType = MET_UCHAR\n"
+                      "ElementDataFile = a-directory\n");
+  io_test::expect_io_error([] { gio::read_metaimage<float>(scratch("dirdata.mhd")); }, "a-directory",
+                           "not a regular file");
+  io_test::expect_io_error([] { gio::read_metaimage<float>(scratch("no-such-file.mha")); }, "no-such-file.mha",
+                           "does not exist");
+}

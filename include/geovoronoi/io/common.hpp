@@ -17,6 +17,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <system_error>
 #include <fstream>
 #include <limits>
 #include <string>
@@ -227,6 +229,12 @@ std::vector<T> reorder_channels(const std::vector<T>& in, std::size_t voxels, st
 
 /// A whole binary file in memory (files are read once; sizes are checked against it).
 inline std::vector<unsigned char> read_file(const std::string& path) {
+  // a directory opens on some systems and reports a meaningless size: only regular files are read
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    if (std::filesystem::exists(path, ec)) throw io_error(path, "is not a regular file (a directory or a device?)");
+    throw io_error(path, "cannot open the file for reading (it does not exist)");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw io_error(path, "cannot open the file for reading");
   in.seekg(0, std::ios::end);
