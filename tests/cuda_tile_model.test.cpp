@@ -180,7 +180,7 @@ gv::diagram<float, P::dim> model_solve_float(const P& p, const std::vector<gv::s
   return d;
 }
 
-/// backend_solve's double path: distance words, then the label pass (labels.cuh).
+/// backend_solve's double path: distance words, then the label pass (repair.cuh).
 template <class P>
 gv::diagram<double, P::dim> model_solve_double(const P& p, const std::vector<gv::source<double>>& src,
                                                schedule sched) {

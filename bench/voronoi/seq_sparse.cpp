@@ -13,7 +13,7 @@
 /// Counters: `voxels_per_second` = cell voxels (insert), voxels reached (bounded) or voxels the
 /// dense solve reaches (dense) per second of real time; `ns_per_voxel` its inverse.
 /// `sparse/bounded_api/<seq|seq_ws>/...` and `sparse/insert_api/...` go through the front end, with a
-/// fresh scratch per call or one sequential::workspace for all calls.
+/// fresh scratch per call or one seq_workspace for all calls.
 
 #include "common.hpp"
 
@@ -23,7 +23,7 @@
 
 namespace {
 namespace gv = geovoronoi;
-namespace eng = gv::detail::seq_engine;
+namespace eng = gv::detail::dijkstra;
 
 struct sparse_case {
   gv::grid<3> g;
@@ -152,7 +152,7 @@ void bounded_api_case(benchmark::State& state, const std::string& name, bool wor
     for (gv::index_t v = 0; v < d.label.size(); ++v)
       if (d.label[v] != gv::no_label)
         radius[std::size_t(d.label[v])] = std::max(radius[std::size_t(d.label[v])], 2.0f * d.distance[v]);
-    gv::sequential::workspace ws;
+    gv::seq_workspace ws;
     const auto policy = workspace ? gv::seq(ws) : gv::seq;
     double reached = 0;
     for (auto _ : state) {
@@ -175,7 +175,7 @@ void insert_api_case(benchmark::State& state, const std::string& name, bool work
   with_problem(c, [&](const auto& p) {
     const auto d = gv::voronoi(gv::seq, p, c.nodes);
     const auto queries = pick_queries(d, 2000);
-    gv::sequential::workspace ws;
+    gv::seq_workspace ws;
     const auto policy = workspace ? gv::seq(ws) : gv::seq;
     double cell_voxels = 0;
     for (auto _ : state) {

@@ -18,7 +18,7 @@
 
 namespace {
 namespace gv = geovoronoi;
-namespace eng = gv::detail::seq_engine;
+namespace eng = gv::detail::dijkstra;
 using namespace gvtest;
 
 template <class T, class Keys>
@@ -194,7 +194,7 @@ struct fails_on_seven {
 
 TEST_CASE("seq sparse: one workspace across calls, grids, value types and an exception") {
   std::mt19937_64 rng(33);
-  gv::sequential::workspace ws;
+  gv::seq_workspace ws;
   for (int t = 0; t < 8; ++t) {
     // float insert-query on one grid, double bounded solve on another, float again on a third
     const auto g1 = larger_grid<3>(rng);
@@ -244,7 +244,7 @@ TEST_CASE("seq sparse: scratch memory follows the search, not the grid") {
   gv::diagram<float, 3> d;
   d.distance = gv::image<float, 3>(g, 3.0f);
   d.label = gv::image<gv::label_t, 3>(g, 0);
-  gv::sequential::workspace ws;
+  gv::seq_workspace ws;
   const auto cells = gv::insert_queries(gv::seq(ws), p, d, std::vector<gv::coord<3>>{{128, 128, 32}, {0, 0, 0}});
   CHECK(cells.cell_size(0) > 50);
   CHECK(cells.cell_size(0) < 400);

@@ -6,24 +6,17 @@
 /// (geovoronoi/voronoi.hpp). It is the reference every other backend is tested against, and it is
 /// itself tested against a brute-force Bellman-Ford oracle. The sparse searches (bounded_solve,
 /// single_source, insert_queries) keep their keys in a paged scratch whose memory follows what they
-/// visit; pass geovoronoi::seq(ws) with a sequential::workspace to reuse it across calls.
+/// visit; pass geovoronoi::seq(ws) with a seq_workspace to reuse it across calls.
 
-#include <geovoronoi/detail/big_array.hpp>
-#include <geovoronoi/detail/parents.hpp>
-#include <geovoronoi/detail/seq/dijkstra.hpp>
-#include <geovoronoi/detail/seq/sparse.hpp>
+#include <geovoronoi/backend/seq/detail/insert.hpp>
+#include <geovoronoi/backend/seq/detail/solve.hpp>
+#include <geovoronoi/detail/dijkstra/sparse.hpp>
 #include <geovoronoi/result.hpp>
 
-#include <algorithm>
-#include <limits>
-#include <numeric>
 #include <type_traits>
 #include <vector>
 
 namespace geovoronoi {
-namespace sequential {
-
-namespace impl = geovoronoi::detail::seq_engine;
 
 /**
  * @brief Reusable scratch memory of the sequential backend's sparse searches (bounded_solve,
@@ -38,14 +31,14 @@ namespace impl = geovoronoi::detail::seq_engine;
  * with any grid, any problem and both value types, and results do not depend on it.
  *
  * @code
- * geovoronoi::sequential::workspace ws;
+ * geovoronoi::seq_workspace ws;
  * for (const auto& batch : batches) {
  *   auto cells = geovoronoi::insert_queries(geovoronoi::seq(ws), p, d, batch);
  *   // ...
  * }
  * @endcode
  */
-class workspace {
+class seq_workspace {
  public:
   /// Bytes held between calls.
   std::size_t bytes() const noexcept {
@@ -58,7 +51,7 @@ class workspace {
   }
   /// The scratch for value type @p T (float or double).
   template <class T>
-  impl::sparse_scratch<T>& scratch() noexcept {
+  detail::dijkstra::sparse_scratch<T>& scratch() noexcept {
     static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>, "workspace: T must be float or double");
     if constexpr (std::is_same_v<T, float>)
       return f_;
@@ -67,83 +60,56 @@ class workspace {
   }
 
  private:
-  impl::sparse_scratch<float> f_;
-  impl::sparse_scratch<double> d_;
+  detail::dijkstra::sparse_scratch<float> f_;
+  detail::dijkstra::sparse_scratch<double> d_;
 };
 
 /// Policy type of the sequential backend: `geovoronoi::seq`, or `geovoronoi::seq(ws)` to reuse a
 /// workspace's scratch memory across calls.
-struct par_t {
-  workspace* ws = nullptr;
+struct seq_t {
+  seq_workspace* ws = nullptr;
 
   /// The same policy, with sparse searches using @p w's scratch memory (which must outlive the calls).
-  constexpr par_t operator()(workspace& w) const noexcept { return par_t{&w}; }
+  constexpr seq_t operator()(seq_workspace& w) const noexcept { return seq_t{&w}; }
 
   /// Calls f(scratch) with the workspace's scratch for T, or with a fresh one.
   template <class T, class F>
   decltype(auto) with_scratch(F&& f) const {
     if (ws) return f(ws->scratch<T>());
-    impl::sparse_scratch<T> local;
+    detail::dijkstra::sparse_scratch<T> local;
     return f(local);
   }
 };
 
-template <class P>
-using T_of = typename P::value_type;
-
 /// Dense multi-source solve (backend hook; call geovoronoi::voronoi or geovoronoi::geodesic_solve).
 template <class P>
-diagram<T_of<P>, P::dim> backend_solve(par_t, const P& p, const std::vector<source<T_of<P>>>& sources,
-                                       const solve_options& opt) {
-  using T = T_of<P>;
-  using kt = detail::key_traits<T>;
-  const index_t n = p.geometry.size();
-  const T radius = detail::radius_in<T>(opt.max_distance);
-  detail::big_array<impl::node<T>> work(static_cast<std::size_t>(n));
-  for (index_t v = 0; v < n; ++v) {
-    work[v].set_key(kt::unreached);
-    work[v].field = p.field[v];
-  }
-  impl::dense_keys<T> st{work.data()};
-  detail::radix_heap<T> heap;
-  impl::run_from_sources(p, st, heap, sources, radius);
-  diagram<T, P::dim> d;
-  d.distance = image<T, P::dim>(p.geometry, std::numeric_limits<T>::infinity());
-  d.label = image<label_t, P::dim>(p.geometry, no_label);
-  for (index_t v = 0; v < n; ++v) {
-    const auto k = st.get(v);
-    if (k != kt::unreached) {
-      d.distance[v] = kt::distance(k);
-      d.label[v] = kt::label(k);
-    }
-  }
-  return d;
+diagram<typename P::value_type, P::dim> backend_solve(seq_t, const P& p,
+                                                      const std::vector<source<typename P::value_type>>& sources,
+                                                      const solve_options& opt) {
+  return detail::seq::solve(p, sources, detail::radius_in<typename P::value_type>(opt.max_distance));
 }
 
 /// Bounded (sparse) multi-source solve (backend hook; call geovoronoi::bounded_solve): scratch
 /// proportional to the voxels reached, plus the policy's workspace page table.
 template <class P>
-sparse_solution<T_of<P>> backend_bounded(par_t policy, const P& p, const std::vector<source<T_of<P>>>& sources,
-                                         T_of<P> radius) {
-  return policy.with_scratch<T_of<P>>([&](auto& s) { return impl::bounded(p, s.keys, s.heap, sources, radius); });
+sparse_solution<typename P::value_type> backend_bounded(seq_t policy, const P& p,
+                                                        const std::vector<source<typename P::value_type>>& sources,
+                                                        typename P::value_type radius) {
+  return policy.with_scratch<typename P::value_type>(
+      [&](auto& s) { return detail::seq::bounded(p, s, sources, radius); });
 }
 
 /// Insert-query for a batch of queries (backend hook; call geovoronoi::insert_queries), one after the
 /// other in one scratch: each query's search touches its cell and the cell's rim only.
 template <class P>
-query_cells<T_of<P>> backend_insert_queries(par_t policy, const P& p, const diagram<T_of<P>, P::dim>& d,
-                                            const std::vector<index_t>& queries) {
-  query_cells<T_of<P>> out;
-  out.query.reserve(queries.size());
-  out.offsets.reserve(queries.size() + 1);
-  policy.with_scratch<T_of<P>>(
-      [&](auto& s) { impl::insert_queries(p, s.keys, s.heap, d, queries.data(), queries.size(), out); });
-  return out;
+query_cells<typename P::value_type> backend_insert_queries(seq_t policy, const P& p,
+                                                           const diagram<typename P::value_type, P::dim>& d,
+                                                           const std::vector<index_t>& queries) {
+  return policy.with_scratch<typename P::value_type>(
+      [&](auto& s) { return detail::seq::insert_queries(p, s, d, queries); });
 }
 
-}  // namespace sequential
-
 /// The sequential backend's policy object: `geovoronoi::voronoi(geovoronoi::seq, ...)`.
-inline constexpr sequential::par_t seq{};
+inline constexpr seq_t seq{};
 
 }  // namespace geovoronoi

@@ -22,7 +22,7 @@
 #include <geovoronoi/backend/cuda/detail/engine.cuh>
 #include <geovoronoi/backend/cuda/detail/error.cuh>
 #include <geovoronoi/backend/cuda/detail/insert.cuh>
-#include <geovoronoi/backend/cuda/detail/labels.cuh>
+#include <geovoronoi/backend/cuda/detail/repair.cuh>
 #include <geovoronoi/backend/cuda/detail/tiling.hpp>
 #include <geovoronoi/result.hpp>
 

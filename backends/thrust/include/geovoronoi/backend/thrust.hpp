@@ -21,8 +21,8 @@
 /// The algorithm, its memory use and its limits are described in docs/backend-thrust.md.
 
 #include <geovoronoi/backend/thrust/detail/host_parallel.hpp>
-#include <geovoronoi/backend/thrust/detail/insert_queries.hpp>
-#include <geovoronoi/backend/thrust/detail/near_far.hpp>
+#include <geovoronoi/backend/thrust/detail/insert.hpp>
+#include <geovoronoi/backend/thrust/detail/engine.hpp>
 #include <geovoronoi/backend/thrust/detail/solve.hpp>
 #include <geovoronoi/result.hpp>
 

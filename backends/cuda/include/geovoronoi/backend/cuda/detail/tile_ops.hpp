@@ -1,6 +1,6 @@
 #pragma once
 // The per-voxel steps of the CUDA kernels, written once as host-device functions so that the same
-// code runs inside the kernels (engine.cuh, labels.cuh, insert.cuh) and in the host model of the
+// code runs inside the kernels (engine.cuh, repair.cuh, insert.cuh) and in the host model of the
 // algorithm that tests/cuda_tile_model.test.cpp runs with g++ on machines without a GPU:
 //   - the relaxation rules (what a candidate state word is);
 //   - loading one slot of a haloed tile, pulling the best candidate into a tile voxel, computing

@@ -17,7 +17,7 @@
 // Dijkstra's order produces). docs/backend-thrust.md gives the argument. Cost: proportional to the
 // set, which is empty when nothing was expanded twice and small otherwise.
 
-#include <geovoronoi/backend/thrust/detail/near_far.hpp>
+#include <geovoronoi/backend/thrust/detail/engine.hpp>
 #include <geovoronoi/config.hpp>
 #include <geovoronoi/result.hpp>
 

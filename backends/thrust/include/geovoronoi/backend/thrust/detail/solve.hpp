@@ -1,7 +1,7 @@
 #pragma once
 // Dense and bounded solves on the near-far engine.
 
-#include <geovoronoi/backend/thrust/detail/near_far.hpp>
+#include <geovoronoi/backend/thrust/detail/engine.hpp>
 #include <geovoronoi/backend/thrust/detail/repair.hpp>
 #include <geovoronoi/image.hpp>
 #include <geovoronoi/result.hpp>

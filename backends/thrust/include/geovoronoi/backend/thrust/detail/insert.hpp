@@ -8,8 +8,8 @@
 #include <geovoronoi/backend/thrust/detail/solve.hpp>
 #include <geovoronoi/detail/key.hpp>
 #include <geovoronoi/detail/radix_heap.hpp>
-#include <geovoronoi/detail/seq/dijkstra.hpp>
-#include <geovoronoi/detail/seq/sparse.hpp>
+#include <geovoronoi/detail/dijkstra/engine.hpp>
+#include <geovoronoi/detail/dijkstra/sparse.hpp>
 #include <geovoronoi/result.hpp>
 
 #include <algorithm>
@@ -32,7 +32,7 @@ struct query_block_fn {
   std::exception_ptr* error;
 
   void operator()(index_t b) const {
-    namespace eng = geovoronoi::detail::seq_engine;
+    namespace eng = geovoronoi::detail::dijkstra;
     query_cells<T>& o = out[b];
     try {
       // the sequential engine's paged sparse search, one scratch per block (its page table costs one

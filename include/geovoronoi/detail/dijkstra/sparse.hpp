@@ -1,6 +1,6 @@
 #pragma once
 // The sequential engine's sparse searches: radius-bounded multi-source solves and insert-query.
-// Both run the engine's Dijkstra loop (dijkstra.hpp) with keys in a scratch that holds only what the
+// Both run the engine's Dijkstra loop (engine.hpp) with keys in a scratch that holds only what the
 // search visits, and emit their voxels in increasing index order. The scratch is a template
 // parameter: paged_keys (dense pages, what the backend uses) or sparse_keys (the hash map it used
 // before, kept for the benchmarks and for the Thrust backend's host path).
@@ -8,14 +8,14 @@
 #include <geovoronoi/detail/key.hpp>
 #include <geovoronoi/detail/paged_scratch.hpp>
 #include <geovoronoi/detail/radix_heap.hpp>
-#include <geovoronoi/detail/seq/dijkstra.hpp>
+#include <geovoronoi/detail/dijkstra/engine.hpp>
 #include <geovoronoi/result.hpp>
 
 #include <algorithm>
 #include <cstddef>
 #include <vector>
 
-namespace geovoronoi::detail::seq_engine {
+namespace geovoronoi::detail::dijkstra {
 
 /**
  * Keys in pages of 2^PageBits voxels (paged_scratch); field values read from the problem (copying
@@ -172,4 +172,4 @@ void insert_queries(const P& p, Keys& st, Heap& heap, const diagram<typename P::
   }
 }
 
-}  // namespace geovoronoi::detail::seq_engine
+}  // namespace geovoronoi::detail::dijkstra

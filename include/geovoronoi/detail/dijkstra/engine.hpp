@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-namespace geovoronoi::detail::seq_engine {
+namespace geovoronoi::detail::dijkstra {
 
 /// One voxel of the dense solver's working array: its key and its field value side by side, so a
 /// relaxation touches one cache line per neighbour instead of two.
@@ -221,4 +221,4 @@ std::size_t run_from_sources(const P& p, State& st, Heap& heap,
   return run(p, st, heap, [radius](index_t, T nd) { return nd < radius; });
 }
 
-}  // namespace geovoronoi::detail::seq_engine
+}  // namespace geovoronoi::detail::dijkstra

@@ -1,0 +1,54 @@
+#pragma once
+// The sequential backend's dense and bounded solves: the shared Dijkstra engine (detail/dijkstra/)
+// with keys in a dense per-voxel array, or in the paged scratch of the sparse searches.
+
+#include <geovoronoi/detail/big_array.hpp>
+#include <geovoronoi/detail/dijkstra/engine.hpp>
+#include <geovoronoi/detail/dijkstra/sparse.hpp>
+#include <geovoronoi/detail/key.hpp>
+#include <geovoronoi/detail/radix_heap.hpp>
+#include <geovoronoi/image.hpp>
+#include <geovoronoi/result.hpp>
+
+#include <limits>
+#include <vector>
+
+namespace geovoronoi::detail::seq {
+
+/// Dense multi-source solve below @p radius: distance and label images.
+template <class P>
+diagram<typename P::value_type, P::dim> solve(const P& p, const std::vector<source<typename P::value_type>>& sources,
+                                              typename P::value_type radius) {
+  using T = typename P::value_type;
+  using kt = key_traits<T>;
+  const index_t n = p.geometry.size();
+  big_array<dijkstra::node<T>> work(static_cast<std::size_t>(n));
+  for (index_t v = 0; v < n; ++v) {
+    work[v].set_key(kt::unreached);
+    work[v].field = p.field[v];
+  }
+  dijkstra::dense_keys<T> st{work.data()};
+  radix_heap<T> heap;
+  dijkstra::run_from_sources(p, st, heap, sources, radius);
+  diagram<T, P::dim> d;
+  d.distance = image<T, P::dim>(p.geometry, std::numeric_limits<T>::infinity());
+  d.label = image<label_t, P::dim>(p.geometry, no_label);
+  for (index_t v = 0; v < n; ++v) {
+    const auto k = st.get(v);
+    if (k != kt::unreached) {
+      d.distance[v] = kt::distance(k);
+      d.label[v] = kt::label(k);
+    }
+  }
+  return d;
+}
+
+/// Bounded (sparse) solve in @p scratch: the voxels below @p radius, sorted by voxel.
+template <class P, class Scratch>
+sparse_solution<typename P::value_type> bounded(const P& p, Scratch& scratch,
+                                                const std::vector<source<typename P::value_type>>& sources,
+                                                typename P::value_type radius) {
+  return dijkstra::bounded(p, scratch.keys, scratch.heap, sources, radius);
+}
+
+}  // namespace geovoronoi::detail::seq
