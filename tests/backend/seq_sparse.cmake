@@ -1,2 +1,2 @@
-# The sequential backend's sparse searches on larger grids: paged vs hash scratch, workspace reuse.
+# The sequential backend's sparse searches on larger grids: paged scratch against an oracle, workspace reuse.
 geovoronoi_add_test(test_backend_seq_sparse ${CMAKE_CURRENT_LIST_DIR}/seq_sparse.cpp)

@@ -1,10 +1,10 @@
 #pragma once
-// The sequential engine: label-carrying Dijkstra on the implicit grid graph with a radix heap over
-// packed (distance, label) keys. One loop serves the dense solve, the bounded solve and insert-query;
-// they differ only in where keys are stored (a dense array, or scratch bounded by what is visited:
-// pages in sparse.hpp, a hash map here) and in which relaxations they accept.
+// The shared Dijkstra engine: label-carrying Dijkstra on the implicit grid graph with a radix heap
+// over packed (distance, label) keys. One loop serves the dense solve, the bounded solve and
+// insert-query, for the seq backend and for the Thrust backend's host insert-query; they differ only
+// in where keys are stored (a dense array, or scratch bounded by what is visited: the pages of
+// sparse.hpp) and in which relaxations they accept.
 
-#include <geovoronoi/detail/flat_map.hpp>
 #include <geovoronoi/detail/key.hpp>
 #include <geovoronoi/detail/radix_heap.hpp>
 #include <geovoronoi/detail/stencil_walk.hpp>
@@ -12,7 +12,6 @@
 #include <geovoronoi/metric.hpp>
 #include <geovoronoi/result.hpp>
 
-#include <algorithm>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -50,53 +49,6 @@ struct dense_keys {
   void prefetch(index_t v, const Stencil& s) const noexcept {
     for (int k = 0; k < Stencil::size; ++k) __builtin_prefetch(n + v + s.delta[k], 1, 1);
   }
-};
-
-/// Keys in a hash map holding only the voxels visited; field values read from the problem. The sparse
-/// searches now use paged_keys (sparse.hpp); this one stays for comparison and for the Thrust
-/// backend's host path.
-template <class T>
-struct sparse_keys {
-  using kt = key_traits<T>;
-  flat_map<typename kt::key_type> map;
-  const T* f = nullptr;
-  T field(index_t v) const noexcept { return f[v]; }
-  template <class Stencil>
-  void prefetch(index_t, const Stencil&) const noexcept {}
-  typename kt::key_type get(index_t v) noexcept {
-    const auto* x = map.find(v);
-    return x ? *x : kt::unreached;
-  }
-  void set(index_t v, typename kt::key_type key) { map.get_or_insert(v, key) = key; }
-
-  // The interface of paged_keys (sparse.hpp): start a bounded solve or a series of insert-queries.
-  static constexpr label_t query_label = 0;
-  const T* bound = nullptr;
-  void begin_bounded(const T* field, index_t, T) {
-    f = field;
-    map.reset(expected);
-  }
-  void begin_queries(const T* field, index_t, const T* distance) {
-    f = field;
-    bound = distance;
-    map.reset(expected);
-  }
-  auto query_filter() const noexcept {
-    return [b = bound](index_t u, T nd) { return nd < b[u]; };
-  }
-  /// Calls out(v, key) for every voxel reached, by increasing v (collected, then sorted), and
-  /// empties the map, sized for a search like this one.
-  template <class Out>
-  void drain_sorted(Out&& out) {
-    sorted.clear();
-    map.for_each([&](index_t v, const typename kt::key_type& k) { sorted.push_back({v, k}); });
-    std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (const auto& [v, k] : sorted) out(v, k);
-    expected = sorted.size() + 16;
-    map.reset(expected);
-  }
-  std::vector<std::pair<index_t, typename kt::key_type>> sorted;
-  std::size_t expected = 64;
 };
 
 template <class H, class = void>

@@ -1,9 +1,8 @@
 #pragma once
-// The sequential engine's sparse searches: radius-bounded multi-source solves and insert-query.
+// The shared engine's sparse searches: radius-bounded multi-source solves and insert-query.
 // Both run the engine's Dijkstra loop (engine.hpp) with keys in a scratch that holds only what the
 // search visits, and emit their voxels in increasing index order. The scratch is a template
-// parameter: paged_keys (dense pages, what the backend uses) or sparse_keys (the hash map it used
-// before, kept for the benchmarks and for the Thrust backend's host path).
+// parameter (paged_keys, with the page size a parameter for the benchmarks).
 
 #include <geovoronoi/detail/key.hpp>
 #include <geovoronoi/detail/paged_scratch.hpp>

@@ -11,7 +11,7 @@
 /// translation unit must be compiled by nvcc.
 ///
 /// @code
-#include <geovoronoi.hpp>
+/// #include <geovoronoi.hpp>
 /// #include <geovoronoi/backend/thrust.hpp>
 /// geovoronoi::thrust::stats st;
 /// auto d = geovoronoi::voronoi(geovoronoi::thrust::par.with_stats(&st), problem, seeds);
