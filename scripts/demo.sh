@@ -16,7 +16,7 @@ cmake -S . -B build-demo -DCMAKE_BUILD_TYPE=Release -DGEOVORONOI_BUILD_TESTS=OFF
 cmake --build build-demo --target geovoronoi_tool -j"$(nproc)"
 
 echo "== geovoronoi demo --out $out"
-build-demo/examples/geovoronoi demo --out "$out"
+build-demo/bin/geovoronoi demo --out "$out"
 echo
 echo "Pictures (PNG) and volumes (.mhd/.raw, .vti, .npy) are in $(cd "$out" && pwd):"
 ls -1 "$out"/*.png "$out"/*/*.png

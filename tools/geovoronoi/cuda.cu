@@ -1,5 +1,5 @@
 // The geovoronoi tool's CUDA backend: the only translation unit that includes the CUDA headers
-// (built by nvcc when the geovoronoi::cuda target exists; see examples/CMakeLists.txt). It exposes
+// (built by nvcc when the geovoronoi::cuda target exists; see tools/geovoronoi/CMakeLists.txt). It exposes
 // plain host functions (solve.hpp) so main.cpp stays ordinary C++.
 
 #include "solve.hpp"
