@@ -22,11 +22,11 @@ void check_walk(std::mt19937_64& rng) {
   const gv::grid<Dim> g(e);
   const std::vector<float> f(g.size(), 1.0f);
   const auto p = gv::make_problem(g, f, gv::uniform{}, gv::connectivity<N>{});
-  const gv::detail::stencil_walker<decltype(p)> walk(p);
+  const gv::detail::stencil_walker<Dim> walk(p);
   constexpr auto offs = gv::connectivity<N>::offsets();
   for (gv::index_t v = 0; v < g.size(); ++v) {
     std::vector<std::pair<int, gv::index_t>> got, want;
-    walk.for_each_neighbour(v, [&](int k, gv::index_t u) { got.push_back({k, u}); });
+    walk.for_each_neighbour(p, v, [&](int k, gv::index_t u) { got.push_back({k, u}); });
     const auto c = g.coords(v);
     for (int k = 0; k < N; ++k) {
       gv::coord<Dim> n = c;

@@ -81,9 +81,12 @@ class image {
   std::vector<T>& values() noexcept { return data_; }
   const std::vector<T>& values() const noexcept { return data_; }
 
-  image_view<T, Dim> view() noexcept { return {grid_, data_.data()}; }
-  image_view<const T, Dim> view() const noexcept { return {grid_, data_.data()}; }
-  operator image_view<const T, Dim>() const noexcept { return view(); }
+  image_view<T, Dim> view() & noexcept { return {grid_, data_.data()}; }
+  image_view<const T, Dim> view() const& noexcept { return {grid_, data_.data()}; }
+  /// A view of a temporary image would dangle once the statement ends.
+  image_view<T, Dim> view() && = delete;
+  image_view<const T, Dim> view() const&& = delete;
+  operator image_view<const T, Dim>() const noexcept { return {grid_, data_.data()}; }
 
  private:
   grid<Dim> grid_{};

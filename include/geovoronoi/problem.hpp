@@ -134,4 +134,19 @@ auto make_problem(const grid<Dim>& g, const Field& field, Metric metric = {}, co
   return p;
 }
 
+/// @brief A temporary field would be destroyed at the end of the statement while the problem still
+///        points at it: make_problem takes a field that outlives the problem (a named vector or image,
+///        or an image_view), never a temporary owner.
+template <int Dim, class T, class A, class... Rest>
+void make_problem(const grid<Dim>&, std::vector<T, A>&&, Rest&&...) = delete;
+/// @copydoc make_problem(const grid<Dim>&, std::vector<T, A>&&, Rest&&...)
+template <int Dim, class T, class A, class... Rest>
+void make_problem(const grid<Dim>&, const std::vector<T, A>&&, Rest&&...) = delete;
+/// @copydoc make_problem(const grid<Dim>&, std::vector<T, A>&&, Rest&&...)
+template <int Dim, class T, class... Rest>
+void make_problem(const grid<Dim>&, image<T, Dim>&&, Rest&&...) = delete;
+/// @copydoc make_problem(const grid<Dim>&, std::vector<T, A>&&, Rest&&...)
+template <int Dim, class T, class... Rest>
+void make_problem(const grid<Dim>&, const image<T, Dim>&&, Rest&&...) = delete;
+
 }  // namespace geovoronoi

@@ -1,12 +1,14 @@
 #pragma once
 /// @file voronoi.hpp
 /// @brief The solver entry points. Each takes a backend policy first (geovoronoi::seq,
-///        geovoronoi::thrust::par, geovoronoi::cuda::par), validates its arguments once, and forwards
-///        to that backend's implementation. A backend that lacks an operation is a compile error.
+///        geovoronoi::thrust::par, geovoronoi::cuda::par), checks and normalises its arguments once,
+///        and hands them to the backend through detail/dispatch.hpp. A first argument that is not a
+///        policy (is_backend_policy), or a backend that lacks an operation, is a compile error.
 
-#include <geovoronoi/detail/parents.hpp>
+#include <geovoronoi/detail/dispatch.hpp>
 #include <geovoronoi/detail/validate.hpp>
 #include <geovoronoi/grid.hpp>
+#include <geovoronoi/policy.hpp>
 #include <geovoronoi/problem.hpp>
 #include <geovoronoi/result.hpp>
 
@@ -30,7 +32,7 @@ std::vector<source<typename P::value_type>> seeds_to_sources(const P& p, const S
   label_t i = 0;
   for (const auto& c : seeds) {
     if (i == std::numeric_limits<label_t>::max()) throw std::invalid_argument("geovoronoi: too many seeds for 32-bit labels");
-    s.push_back({checked_voxel(p, coord<P::dim>(c), "seed " + std::to_string(i)), typename P::value_type(0), i});
+    s.push_back({checked_voxel(p, coord<P::dim>(c), "seed", std::size_t(i)), typename P::value_type(0), i});
     ++i;
   }
   return s;
@@ -51,17 +53,18 @@ bool has_negative_zero(const std::vector<source<T>>& s) {
   return false;
 }
 
-template <class Policy, class P>
-diagram<typename P::value_type, P::dim> solve_checked(const Policy& policy, const P& p,
-                                                      const std::vector<source<typename P::value_type>>& s,
-                                                      const solve_options& opt) {
+/// solve_options::max_distance as a radius in T: NaN is an error, beyond T's range is +inf (a plain
+/// cast would be undefined there). The one conversion every backend sees.
+template <class T>
+T checked_radius(const solve_options& opt) {
   if (opt.max_distance != opt.max_distance)
     throw std::invalid_argument("geovoronoi: solve_options::max_distance is NaN");
-  auto d = backend_solve(policy, p, s, opt);
-  d.seeds.reserve(s.size());
-  for (const auto& x : s) d.seeds.push_back(x.voxel);
-  if (opt.with_parent) compute_parents(p, d, s);
-  return d;
+  return radius_in<T>(opt.max_distance);
+}
+template <class T>
+T checked_radius(T radius, const char* who) {
+  if (radius != radius) throw std::invalid_argument(std::string("geovoronoi: ") + who + " radius is NaN");
+  return radius;
 }
 }  // namespace detail
 
@@ -86,9 +89,10 @@ diagram<typename P::value_type, P::dim> solve_checked(const Policy& policy, cons
 template <class Policy, class P, class Seeds>
 diagram<typename P::value_type, P::dim> voronoi(const Policy& policy, const P& p, const Seeds& seeds,
                                                 const solve_options& opt = {}) {
+  detail::require_policy<Policy>();
   const auto s = detail::seeds_to_sources(p, seeds);
   detail::validate_sources(p, s);
-  return detail::solve_checked(policy, p, s, opt);
+  return detail::dispatch::solve(policy, p, s, detail::checked_radius<typename P::value_type>(opt), opt.with_parent);
 }
 
 /// @brief The same, building the problem from its parts:
@@ -96,6 +100,7 @@ diagram<typename P::value_type, P::dim> voronoi(const Policy& policy, const P& p
 template <class Policy, int Dim, class Field, class Seeds, class Metric, int N>
 auto voronoi(const Policy& policy, const grid<Dim>& g, const Field& field, const Seeds& seeds, Metric metric,
              connectivity<N> conn, const solve_options& opt = {}) {
+  detail::require_policy<Policy>();
   return voronoi(policy, make_problem(g, field, metric, conn), seeds, opt);
 }
 
@@ -109,10 +114,12 @@ template <class Policy, class P>
 diagram<typename P::value_type, P::dim> geodesic_solve(const Policy& policy, const P& p,
                                                        const std::vector<source<typename P::value_type>>& sources,
                                                        const solve_options& opt = {}) {
+  detail::require_policy<Policy>();
   detail::validate_sources(p, sources, "source");
+  const auto radius = detail::checked_radius<typename P::value_type>(opt);
   if (detail::has_negative_zero(sources))
-    return detail::solve_checked(policy, p, detail::without_negative_zero(sources), opt);
-  return detail::solve_checked(policy, p, sources, opt);
+    return detail::dispatch::solve(policy, p, detail::without_negative_zero(sources), radius, opt.with_parent);
+  return detail::dispatch::solve(policy, p, sources, radius, opt.with_parent);
 }
 
 /**
@@ -123,10 +130,12 @@ template <class Policy, class P>
 sparse_solution<typename P::value_type> bounded_solve(const Policy& policy, const P& p,
                                                       const std::vector<source<typename P::value_type>>& sources,
                                                       typename P::value_type radius) {
+  detail::require_policy<Policy>();
   detail::validate_sources(p, sources, "source");
-  if (radius != radius) throw std::invalid_argument("geovoronoi: bounded_solve radius is NaN");
-  if (detail::has_negative_zero(sources)) return backend_bounded(policy, p, detail::without_negative_zero(sources), radius);
-  return backend_bounded(policy, p, sources, radius);
+  detail::checked_radius(radius, "bounded_solve");
+  if (detail::has_negative_zero(sources))
+    return detail::dispatch::bounded(policy, p, detail::without_negative_zero(sources), radius);
+  return detail::dispatch::bounded(policy, p, sources, radius);
 }
 
 /// @brief Single-source solve from voxel @p s, bounded by @p radius (default: unbounded), sparse.
@@ -135,8 +144,10 @@ sparse_solution<typename P::value_type> single_source(
     const Policy& policy, const P& p, const coord<P::dim>& s,
     typename P::value_type radius = std::numeric_limits<typename P::value_type>::infinity()) {
   using T = typename P::value_type;
+  detail::require_policy<Policy>();
   const index_t v = detail::checked_voxel(p, s, "source");
-  return bounded_solve(policy, p, std::vector<source<T>>{{v, T(0), 0}}, radius);
+  detail::checked_radius(radius, "single_source");
+  return detail::dispatch::bounded(policy, p, std::vector<source<T>>{{v, T(0), 0}}, radius);
 }
 
 /**
@@ -152,9 +163,10 @@ template <class Policy, class P>
 query_cells<typename P::value_type> insert_queries(const Policy& policy, const P& p,
                                                    const diagram<typename P::value_type, P::dim>& d,
                                                    const std::vector<index_t>& queries) {
+  detail::require_policy<Policy>();
   detail::check_diagram(p, d);
-  for (std::size_t i = 0; i < queries.size(); ++i) detail::checked_voxel(p, queries[i], "query " + std::to_string(i));
-  return backend_insert_queries(policy, p, d, queries);
+  for (std::size_t i = 0; i < queries.size(); ++i) detail::checked_voxel(p, queries[i], "query", i);
+  return detail::dispatch::insert_queries(policy, p, d, queries);
 }
 
 /// @brief The same with voxel coordinates.
@@ -162,11 +174,12 @@ template <class Policy, class P>
 query_cells<typename P::value_type> insert_queries(const Policy& policy, const P& p,
                                                    const diagram<typename P::value_type, P::dim>& d,
                                                    const std::vector<coord<P::dim>>& queries) {
+  detail::require_policy<Policy>();
+  detail::check_diagram(p, d);
   std::vector<index_t> q;
   q.reserve(queries.size());
-  for (std::size_t i = 0; i < queries.size(); ++i)
-    q.push_back(detail::checked_voxel(p, queries[i], "query " + std::to_string(i)));
-  return insert_queries(policy, p, d, q);
+  for (std::size_t i = 0; i < queries.size(); ++i) q.push_back(detail::checked_voxel(p, queries[i], "query", i));
+  return detail::dispatch::insert_queries(policy, p, d, q);
 }
 
 /// @brief New cell of one query voxel @p q (see insert_queries).
@@ -174,6 +187,7 @@ template <class Policy, class P>
 query_cell<typename P::value_type> insert_query(const Policy& policy, const P& p,
                                                 const diagram<typename P::value_type, P::dim>& d,
                                                 const coord<P::dim>& q) {
+  detail::require_policy<Policy>();
   auto cells = insert_queries(policy, p, d, std::vector<coord<P::dim>>{q});
   query_cell<typename P::value_type> c;
   c.query = cells.query[0];

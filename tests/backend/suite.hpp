@@ -217,6 +217,12 @@ TEST_CASE("backend " GEOVORONOI_TEST_BACKEND_NAME ": bounded and single-source s
       else
         CHECK(capped.label[v] == gv::no_label);
     }
+    // a max_distance beyond float's range is +inf (the front end's one conversion), -huge is
+    // below every distance: the whole diagram, then nothing
+    const auto huge = gv::geodesic_solve(GEOVORONOI_TEST_POLICY(), p, src, gv::solve_options{false, 1e300});
+    require_same_diagram(huge, dense, "max_distance 1e300");
+    const auto none = gv::geodesic_solve(GEOVORONOI_TEST_POLICY(), p, src, gv::solve_options{false, -1e300});
+    for (gv::index_t v = 0; v < g.size(); ++v) CHECK(none.label[v] == gv::no_label);
     const auto one = gv::single_source(GEOVORONOI_TEST_POLICY(), p, seeds[0]);
     const auto ref = oracle(p, {gv::source<float>{g.index(seeds[0]), 0.0f, 0}});
     std::size_t reached = 0;

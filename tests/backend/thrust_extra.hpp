@@ -134,7 +134,7 @@ TEST_CASE("thrust " GEOVORONOI_TEST_BACKEND_NAME ": the label repair restores co
       const gv::label_t from = label[x], to = label_t_other(from, gv::label_t(seeds.size()));
       std::vector<gv::index_t> todo{x};
       label[x] = to;
-      const auto ext = td::extents_of(p);
+      const gv::detail::stencil_walker<3> walk(p);
       while (!todo.empty()) {
         const gv::index_t u = todo.back();
         todo.pop_back();
@@ -144,7 +144,7 @@ TEST_CASE("thrust " GEOVORONOI_TEST_BACKEND_NAME ": the label repair restores co
           label[y] = to;
           todo.push_back(y);
         };
-        td::for_each_neighbour(p, ext, u, visit);
+        walk.for_each_neighbour(p, u, visit);
       }
     };
     std::vector<gv::index_t> reached;

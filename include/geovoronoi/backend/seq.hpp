@@ -11,6 +11,7 @@
 #include <geovoronoi/backend/seq/detail/insert.hpp>
 #include <geovoronoi/backend/seq/detail/solve.hpp>
 #include <geovoronoi/detail/dijkstra/sparse.hpp>
+#include <geovoronoi/policy.hpp>
 #include <geovoronoi/result.hpp>
 
 #include <type_traits>
@@ -67,6 +68,7 @@ class seq_workspace {
 /// Policy type of the sequential backend: `geovoronoi::seq`, or `geovoronoi::seq(ws)` to reuse a
 /// workspace's scratch memory across calls.
 struct seq_t {
+  using backend_policy_tag = void;  ///< marks a backend policy (is_backend_policy)
   seq_workspace* ws = nullptr;
 
   /// The same policy, with sparse searches using @p w's scratch memory (which must outlive the calls).
@@ -85,8 +87,8 @@ struct seq_t {
 template <class P>
 diagram<typename P::value_type, P::dim> backend_solve(seq_t, const P& p,
                                                       const std::vector<source<typename P::value_type>>& sources,
-                                                      const solve_options& opt) {
-  return detail::seq::solve(p, sources, detail::radius_in<typename P::value_type>(opt.max_distance));
+                                                      typename P::value_type radius) {
+  return detail::seq::solve(p, sources, radius);
 }
 
 /// Bounded (sparse) multi-source solve (backend hook; call geovoronoi::bounded_solve): scratch

@@ -22,13 +22,13 @@ void compute_parents(const P& p, diagram<typename P::value_type, P::dim>& d,
   std::vector<unsigned char> is_source(static_cast<std::size_t>(n), 0);
   for (const auto& s : sources)
     if (d.distance[s.voxel] == s.distance && d.label[s.voxel] == s.label) is_source[s.voxel] = 1;
-  const stencil_walker<P> walk(p);
+  const stencil_walker<P::dim> walk(p);
   for (index_t v = 0; v < n; ++v) {
     if (d.label[v] == no_label || is_source[v]) continue;
     const auto target = kt::make(d.distance[v], d.label[v]);
     const T fv = p.field[v];
     index_t best = no_index;
-    walk.for_each_neighbour(v, [&](int k, index_t u) {
+    walk.for_each_neighbour(p, v, [&](int k, index_t u) {
       if (d.label[u] == no_label) return;
       // the edge is walked from u to v: w(u -> v), evaluated with the same expression as the solvers
       const T w = p.metric(p.edges.length[k], p.field[u], fv);

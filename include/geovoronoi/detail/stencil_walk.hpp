@@ -1,6 +1,8 @@
 #pragma once
 // Visiting the in-grid neighbours of a voxel on the implicit grid graph, with a fast path for voxels
-// away from the border (no per-neighbour bounds checks).
+// away from the border (no per-neighbour bounds checks). The one walker of the library: the shared
+// Dijkstra engine, the parent image and the Thrust backend's expansion functors (host and device)
+// all use it.
 
 #include <geovoronoi/config.hpp>
 
@@ -8,50 +10,49 @@
 
 namespace geovoronoi::detail {
 
-template <class P>
-class stencil_walker {
- public:
-  static constexpr int Dim = P::dim;
-  static constexpr int N = P::neighbours;
+/// The grid's extents, decoded once; trivially copyable, so a device functor carries it by value.
+/// The stencil comes from the problem at each call.
+template <int Dim>
+struct stencil_walker {
+  index_t nx = 1, ny = 1, nz = 1, nxy = 1;
+  bool small = true;  ///< fewer than 2^32 voxels: coordinates decode with 32-bit divisions
 
-  explicit stencil_walker(const P& p) : p_(p) {
-    nx_ = p.geometry.extent(0);
-    ny_ = p.geometry.extent(1);
-    nz_ = Dim == 3 ? p.geometry.extent(Dim - 1) : 1;
-    nxy_ = nx_ * ny_;
-    small_ = p.geometry.size() <= index_t(UINT32_MAX);
+  stencil_walker() = default;
+  template <class P>
+  explicit stencil_walker(const P& p)
+      : nx(p.geometry.extent(0)),
+        ny(p.geometry.extent(1)),
+        nz(Dim == 3 ? p.geometry.extent(Dim - 1) : 1),
+        nxy(nx * ny),
+        small(p.geometry.size() <= index_t(UINT32_MAX)) {
+    static_assert(P::dim == Dim, "stencil_walker: the problem's dimension differs from the walker's");
   }
 
-  /// Calls f(k, u) for each neighbour u = v + offset k that lies inside the grid.
-  template <class F>
-  void for_each_neighbour(index_t v, F&& f) const {
+  /// Calls f(k, u) for each neighbour u = v + offset k of @p p's stencil that lies inside the grid.
+  template <class P, class F>
+  GEOVORONOI_HOST_DEVICE void for_each_neighbour(const P& p, index_t v, F&& f) const {
     index_t x, y, z;
-    if (small_) {
-      const std::uint32_t vv = std::uint32_t(v), nx = std::uint32_t(nx_), nxy = std::uint32_t(nxy_);
-      const std::uint32_t zz = vv / nxy, r = vv - zz * nxy, yy = r / nx;
-      z = zz, y = yy, x = r - yy * nx;
+    if (small) {
+      const std::uint32_t vv = std::uint32_t(v), nx32 = std::uint32_t(nx), nxy32 = std::uint32_t(nxy);
+      const std::uint32_t zz = vv / nxy32, r = vv - zz * nxy32, yy = r / nx32;
+      z = index_t(zz), y = index_t(yy), x = index_t(r - yy * nx32);
     } else {
-      z = v / nxy_;
-      const index_t r = v - z * nxy_;
-      y = r / nx_;
-      x = r - y * nx_;
+      z = v / nxy;
+      const index_t r = v - z * nxy;
+      y = r / nx;
+      x = r - y * nx;
     }
-    const bool interior = x > 0 && x < nx_ - 1 && y > 0 && y < ny_ - 1 && (Dim == 2 || (z > 0 && z < nz_ - 1));
+    const bool interior = x > 0 && x < nx - 1 && y > 0 && y < ny - 1 && (Dim == 2 || (z > 0 && z < nz - 1));
     if (interior) {
-      for (int k = 0; k < N; ++k) f(k, v + p_.edges.delta[k]);
+      for (int k = 0; k < P::neighbours; ++k) f(k, v + p.edges.delta[k]);
     } else {
-      for (int k = 0; k < N; ++k) {
-        const index_t xx = x + p_.edges.offset[k][0], yy = y + p_.edges.offset[k][1], zz = z + p_.edges.offset[k][2];
-        if (xx < 0 || xx >= nx_ || yy < 0 || yy >= ny_ || zz < 0 || zz >= nz_) continue;
-        f(k, v + p_.edges.delta[k]);
+      for (int k = 0; k < P::neighbours; ++k) {
+        const index_t xx = x + p.edges.offset[k][0], yy = y + p.edges.offset[k][1], zz = z + p.edges.offset[k][2];
+        if (xx < 0 || xx >= nx || yy < 0 || yy >= ny || zz < 0 || zz >= nz) continue;
+        f(k, v + p.edges.delta[k]);
       }
     }
   }
-
- private:
-  const P& p_;
-  index_t nx_, ny_, nz_, nxy_;
-  bool small_;
 };
 
 }  // namespace geovoronoi::detail

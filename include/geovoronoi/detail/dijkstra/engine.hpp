@@ -42,6 +42,7 @@ template <class T>
 struct dense_keys {
   using kt = key_traits<T>;
   node<T>* n;
+  node<T>& at(index_t v) noexcept { return n[v]; }
   typename kt::key_type get(index_t v) const noexcept { return n[v].get_key(); }
   void set(index_t v, typename kt::key_type key) noexcept { n[v].set_key(key); }
   T field(index_t v) const noexcept { return n[v].field; }
@@ -56,13 +57,8 @@ struct has_peek : std::false_type {};
 template <class H>
 struct has_peek<H, std::void_t<decltype(std::declval<const H&>().peek_ready())>> : std::true_type {};
 
-/// States whose at(v) returns a reference to the voxel's slot (its key, or a node with get_key(),
-/// set_key() and field), valid at least until the next at(): a relaxation then looks it up once.
-template <class S, class = void>
-struct has_slot_access : std::false_type {};
-template <class S>
-struct has_slot_access<S, std::void_t<decltype(std::declval<S&>().at(index_t(0)))>> : std::true_type {};
-
+/// Every State's at(v) returns a reference to the voxel's slot (its key, or a node with get_key(),
+/// set_key() and field), valid at least until the next at(): a relaxation looks it up once.
 template <class K>
 auto slot_key(const K& key) noexcept -> decltype(key < key, K()) {
   return key;
@@ -103,7 +99,7 @@ template <class P, class State, class Heap, class Accept>
 std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept) {
   using T = typename P::value_type;
   using kt = key_traits<T>;
-  const stencil_walker<P> walk(p);
+  const stencil_walker<P::dim> walk(p);
   std::size_t settled = 0;
   while (!heap.empty()) {
     const auto it = heap.pop();
@@ -115,39 +111,22 @@ std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept) {
     const T dv = kt::distance(it.key);
     const label_t l = kt::label(it.key);
     const T fv = st.field(v);
-    walk.for_each_neighbour(v, [&](int k, index_t u) {
-      if constexpr (has_slot_access<State>::value) {
-        // the same steps with the neighbour's slot found once (paged_keys)
-        auto& slot = st.at(u);
-        const auto ku = slot_key(slot);
-        if (!(it.key < ku)) return;
-        const T fu = slot_field(st, slot, u);
-        if (!detail::inside<typename P::metric_type>(fu)) return;
-        const T w = p.metric(p.edges.length[k], fv, fu);
-        if (!(w >= T(0))) bad_weight(double(w));
-        const T nd = dv + w;
-        if (!accept(u, nd)) return;
-        const auto nk = kt::make(nd, l);
-        if (nk < ku) {
-          set_slot_key(slot, nk);
-          heap.push(nk, u);
-        }
-      } else {
-        // A neighbour whose key is already <= the popped key cannot improve (weights are >= 0): skip
-        // it before paying for the metric. This covers every settled neighbour.
-        const auto ku = st.get(u);
-        if (!(it.key < ku)) return;
-        const T fu = st.field(u);
-        if (!detail::inside<typename P::metric_type>(fu)) return;
-        const T w = p.metric(p.edges.length[k], fv, fu);
-        if (!(w >= T(0))) bad_weight(double(w));
-        const T nd = dv + w;
-        if (!accept(u, nd)) return;
-        const auto nk = kt::make(nd, l);
-        if (nk < ku) {
-          st.set(u, nk);
-          heap.push(nk, u);
-        }
+    walk.for_each_neighbour(p, v, [&](int k, index_t u) {
+      auto& slot = st.at(u);
+      // A neighbour whose key is already <= the popped key cannot improve (weights are >= 0): skip
+      // it before paying for the metric. This covers every settled neighbour.
+      const auto ku = slot_key(slot);
+      if (!(it.key < ku)) return;
+      const T fu = slot_field(st, slot, u);
+      if (!detail::inside<typename P::metric_type>(fu)) return;
+      const T w = p.metric(p.edges.length[k], fv, fu);
+      if (!(w >= T(0))) bad_weight(double(w));
+      const T nd = dv + w;
+      if (!accept(u, nd)) return;
+      const auto nk = kt::make(nd, l);
+      if (nk < ku) {
+        set_slot_key(slot, nk);
+        heap.push(nk, u);
       }
     });
   }

@@ -5,7 +5,7 @@
 #include <geovoronoi/detail/shape/common.hpp>
 #include <geovoronoi/detail/shape/host_parallel.hpp>
 #include <geovoronoi/detail/shape/translation_invariant.hpp>
-#include <geovoronoi/voronoi.hpp>
+#include <geovoronoi/detail/dispatch.hpp>
 
 #include <algorithm>
 #include <limits>
@@ -102,7 +102,7 @@ void distance_ratio(const Policy& policy, const P& p, const D& d, const Options&
       // 2. the node's own distance over its support d_i < 2 dmax
       const T radius = T(2) * dmax;
       const auto di = tab ? tab->ball(node_voxel, radius)
-                          : bounded_solve(policy, p, std::vector<source<T>>{{node_voxel, T(0), 0}}, radius);
+                          : dispatch::bounded(policy, p, std::vector<source<T>>{{node_voxel, T(0), 0}}, radius);
       auto di_at = [&](index_t v) -> T {
         const auto it = std::lower_bound(di.voxel.begin(), di.voxel.end(), v);
         return (it != di.voxel.end() && *it == v) ? di.distance[std::size_t(it - di.voxel.begin())]
@@ -133,7 +133,9 @@ void distance_ratio(const Policy& policy, const P& p, const D& d, const Options&
                                  [](const source<T>& a, const source<T>& b) { return a.voxel == b.voxel; }),
                      frontier.end());
       sparse_solution<T> db;
-      if (!frontier.empty()) db = bounded_solve(policy, p, frontier, dmax);  // d_B is capped at dmax
+      // the frontier is valid as built: reached voxels, distinct after the unique above, distances
+      // finite and >= +0 (a difference of equal floats is +0, and max(0, x) never gives -0 here)
+      if (!frontier.empty()) db = dispatch::bounded(policy, p, frontier, dmax);  // d_B is capped at dmax
       // 4. raw weights over the support, merged with d_B (both sorted by voxel)
       std::size_t b = 0;
       for (std::size_t j = 0; j < di.size(); ++j) {

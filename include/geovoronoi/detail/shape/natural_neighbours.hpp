@@ -6,7 +6,7 @@
 #include <geovoronoi/detail/shape/common.hpp>
 #include <geovoronoi/detail/shape/host_parallel.hpp>
 #include <geovoronoi/detail/shape/translation_invariant.hpp>
-#include <geovoronoi/voronoi.hpp>
+#include <geovoronoi/detail/dispatch.hpp>
 
 #include <algorithm>
 #include <array>
@@ -176,7 +176,7 @@ void natural_neighbours(const Policy& policy, const P& p, const D& d, const Opti
     for (std::size_t start = 0; start < total; start += opt.batch_size) {
       const std::size_t end = std::min(total, start + opt.batch_size);
       batch.assign(queries.begin() + std::ptrdiff_t(start), queries.begin() + std::ptrdiff_t(end));
-      const auto cells = insert_queries(policy, p, d, batch);
+      const auto cells = dispatch::insert_queries(policy, p, d, batch);  // reached voxels: valid queries
       host_parallel_for(policy, tasks(cells.size()), [&](index_t t) {
         query_scratch<T> s(w.nodes);
         const std::size_t b = std::size_t(t) * queries_per_task;

@@ -44,6 +44,7 @@ shape_weights<typename P::value_type, P::dim> shape_functions(const Policy& poli
                                                               const diagram<typename P::value_type, P::dim>& d,
                                                               const shape_options& opt) {
   using T = typename P::value_type;
+  detail::require_policy<Policy>();
   detail::shape::validate(problem, d, opt);
   shape_weights<T, P::dim> w;
   w.geometry = problem.geometry;

@@ -21,9 +21,9 @@
 // under shortest-path predecessors of q, so it is 26-connected around q, and a box whose outer shell
 // holds no cell voxel contains the whole cell. Per query we grow such a box, then scan it.
 
+#include <geovoronoi/detail/dispatch.hpp>
 #include <geovoronoi/detail/shape/common.hpp>
 #include <geovoronoi/metric.hpp>
-#include <geovoronoi/voronoi.hpp>
 
 #include <algorithm>
 #include <cstdint>
@@ -106,11 +106,12 @@ class offset_table {
  public:
   using T = typename P::value_type;
 
-  /// Computes L with one backend solve from voxel 0 (geodesic_solve: the policy does the search).
+  /// Computes L with one backend solve from voxel 0 (the policy does the search).
   template <class Policy>
   offset_table(const Policy& policy, const P& p) : p_(p) {
     for (int a = 0; a < 3; ++a) ext_[a] = a < P::dim ? p.geometry.extent(a) : 1;
-    auto d = geodesic_solve(policy, p, std::vector<source<T>>{{index_t(0), T(0), label_t(0)}});
+    auto d = dispatch::solve(policy, p, std::vector<source<T>>{{index_t(0), T(0), label_t(0)}},
+                             std::numeric_limits<T>::infinity(), false);
     table_ = std::move(d.distance.values());
   }
 

@@ -23,7 +23,9 @@
 #include <geovoronoi/backend/cuda/detail/error.cuh>
 #include <geovoronoi/backend/cuda/detail/insert.cuh>
 #include <geovoronoi/backend/cuda/detail/repair.cuh>
+#include <geovoronoi/backend/cuda/detail/solve.cuh>
 #include <geovoronoi/backend/cuda/detail/tiling.hpp>
+#include <geovoronoi/policy.hpp>
 #include <geovoronoi/result.hpp>
 
 #include <cuda_runtime.h>
@@ -43,6 +45,7 @@ namespace geovoronoi::cuda {
  * @c stream, so several host threads can solve concurrently on different streams.
  */
 struct par_t {
+  using backend_policy_tag = void;  ///< marks a backend policy (is_backend_policy)
   /// The stream every copy and kernel goes to; nullptr is the default stream.
   cudaStream_t stream = nullptr;
   /// @brief The same policy on stream @p s: `geovoronoi::cuda::par.on(s)`.
@@ -52,99 +55,6 @@ struct par_t {
 /// The CUDA backend's policy object: `geovoronoi::voronoi(geovoronoi::cuda::par, ...)`.
 inline constexpr par_t par{};
 
-namespace detail {
-
-template <class P>
-using T_of = typename P::value_type;
-
-template <class P>
-tiling tiling_of(const P& p) {
-  const auto& g = p.geometry;
-  return make_tiling<P::dim>(g.extent(0), g.extent(1), P::dim == 3 ? g.extent(P::dim - 1) : 1);
-}
-
-/// The problem's field on the device, and a copy of the problem that points at it.
-template <class P>
-struct device_problem {
-  device_buffer<T_of<P>> field;
-  P view;
-  device_problem(const P& p, cudaStream_t s) : field(std::size_t(p.geometry.size())), view(p) {
-    field.upload(p.field, field.size(), s);
-    view.field = field.data();
-  }
-};
-
-/// Dense solve into state words (float: packed keys; double: distance bits, plus labels).
-template <class P>
-struct dense_state {
-  device_buffer<unsigned long long> words;
-  device_buffer<unsigned int> labels;  // double only
-};
-
-/// The dense solve on the device; @p iterations (optional) receives the engine iterations run.
-template <class P>
-dense_state<P> solve_dense(const device_problem<P>& dp, const tiling& t,
-                           const std::vector<source<T_of<P>>>& sources, T_of<P> radius, cudaStream_t s,
-                           long long* iterations = nullptr) {
-  using T = T_of<P>;
-  static_assert(std::is_trivially_copyable_v<P>, "geovoronoi::cuda: the problem must be trivially copyable");
-  dense_state<P> st;
-  st.words = device_buffer<unsigned long long>(std::size_t(t.voxels()));
-  st.words.fill_bytes(0xFF, s);
-  std::vector<seed_word> seeds;
-  for (const auto& x : sources)
-    if (x.distance < radius) {
-      if constexpr (std::is_same_v<T, float>)
-        seeds.push_back({x.voxel, pack(x.distance, x.label)});
-      else
-        seeds.push_back({x.voxel, distance_word(x.distance)});
-    }
-  if constexpr (std::is_same_v<T, float>) {
-    // pass 1: (distance, label) keys; pass 2: labels again from the final distances (rule_label)
-    long long it = run_engine(dp.view, rule_voronoi{radius}, t, st.words.data(), seeds, s);
-    const index_t n = t.voxels();
-    const int blocks = int((n + 255) / 256 < 65535 ? (n + 255) / 256 : 65535);
-    clear_labels_kernel<><<<blocks, 256, 0, s>>>(st.words.data(), n);
-    GEOVORONOI_CUDA_CHECK_LAUNCH("clear_labels_kernel");
-    it += run_engine(dp.view, rule_label{}, t, st.words.data(), seeds, s);
-    if (iterations) *iterations = it;
-  } else {
-    const long long it = run_engine(dp.view, rule_distance<T>{radius}, t, st.words.data(), seeds, s);
-    if (iterations) *iterations = it;
-    st.labels = device_buffer<unsigned int>(std::size_t(t.voxels()));
-    st.labels.fill_bytes(0xFF, s);
-    std::vector<label_seed> ls;
-    for (const auto& x : sources)
-      if (x.distance < radius) ls.push_back({x.voxel, distance_word(x.distance), std::uint32_t(x.label)});
-    run_label_pass(dp.view, t, st.words.data(), st.labels.data(), ls, s);
-  }
-  return st;
-}
-
-/// Calls f(v, distance, label) for every reached voxel, in increasing voxel order.
-template <class P, class F>
-void for_each_reached(const dense_state<P>& st, index_t n, cudaStream_t s, F&& f) {
-  using T = T_of<P>;
-  std::vector<unsigned long long> words(static_cast<std::size_t>(n));
-  st.words.download(words.data(), words.size(), s);
-  std::vector<unsigned int> labels;
-  if constexpr (!std::is_same_v<T, float>) {
-    labels.resize(static_cast<std::size_t>(n));
-    st.labels.download(labels.data(), labels.size(), s);
-  }
-  sync(s, "download of the solution");
-  for (index_t v = 0; v < n; ++v) {
-    const auto w = words[static_cast<std::size_t>(v)];
-    if (w == unreached) continue;
-    if constexpr (std::is_same_v<T, float>)
-      f(v, key_distance(w), key_label(w));
-    else
-      f(v, word_distance<T>(w), label_t(labels[static_cast<std::size_t>(v)]));
-  }
-}
-
-}  // namespace detail
-
 /**
  * @brief Dense multi-source solve (backend hook; call geovoronoi::voronoi or geodesic_solve).
  * @throws cuda_error on any CUDA failure, metric_error on a negative or NaN edge weight.
@@ -152,15 +62,12 @@ void for_each_reached(const dense_state<P>& st, index_t n, cudaStream_t s, F&& f
 template <class P>
 diagram<detail::T_of<P>, P::dim> backend_solve(par_t policy, const P& p,
                                                const std::vector<source<detail::T_of<P>>>& sources,
-                                               const solve_options& opt) {
+                                               detail::T_of<P> radius) {
   using T = detail::T_of<P>;
-  const auto t = detail::tiling_of(p);
-  const detail::device_problem<P> dp(p, policy.stream);
-  const auto st = detail::solve_dense(dp, t, sources, static_cast<T>(opt.max_distance), policy.stream);
   diagram<T, P::dim> d;
   d.distance = image<T, P::dim>(p.geometry, std::numeric_limits<T>::infinity());
   d.label = image<label_t, P::dim>(p.geometry, no_label);
-  detail::for_each_reached(st, t.voxels(), policy.stream, [&](index_t v, T dist, label_t l) {
+  detail::solve_each_reached(p, sources, radius, policy.stream, [&](index_t v, T dist, label_t l) {
     d.distance[v] = dist;
     d.label[v] = l;
   });
@@ -178,11 +85,8 @@ sparse_solution<detail::T_of<P>> backend_bounded(par_t policy, const P& p,
                                                  const std::vector<source<detail::T_of<P>>>& sources,
                                                  detail::T_of<P> radius) {
   using T = detail::T_of<P>;
-  const auto t = detail::tiling_of(p);
-  const detail::device_problem<P> dp(p, policy.stream);
-  const auto st = detail::solve_dense(dp, t, sources, radius, policy.stream);
   sparse_solution<T> r;
-  detail::for_each_reached(st, t.voxels(), policy.stream, [&](index_t v, T dist, label_t l) {
+  detail::solve_each_reached(p, sources, radius, policy.stream, [&](index_t v, T dist, label_t l) {
     r.voxel.push_back(v);
     r.distance.push_back(dist);
     r.label.push_back(l);

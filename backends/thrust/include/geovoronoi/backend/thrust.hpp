@@ -24,12 +24,14 @@
 #include <geovoronoi/backend/thrust/detail/insert.hpp>
 #include <geovoronoi/backend/thrust/detail/engine.hpp>
 #include <geovoronoi/backend/thrust/detail/solve.hpp>
+#include <geovoronoi/policy.hpp>
 #include <geovoronoi/result.hpp>
 
 #include <thrust/execution_policy.h>
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace geovoronoi {
@@ -53,6 +55,7 @@ struct stats {
  * Trivially copyable; `with_*` return modified copies.
  */
 struct par_t {
+  using backend_policy_tag = void;  ///< marks a backend policy (is_backend_policy), par_on_t's too
   /// Voxels a threshold raise aims to release at once (0: a default per system, 65536 on host
   /// systems, 262144 on CUDA). Larger gives more parallelism per round and more re-expansions.
   std::size_t batch = 0;
@@ -106,81 +109,60 @@ inline void report(const par_t& pol, const engine_counts& c) {
   pol.report->suspects = c.suspects;
   pol.report->relabelled = c.relabelled;
 }
-template <class Exec, class P>
-diagram<typename P::value_type, P::dim> solve_on(const Exec& exec, const par_t& pol, const P& p,
-                                                 const std::vector<source<typename P::value_type>>& s,
-                                                 const solve_options& opt) {
-  engine_counts c;
-  auto d = solve(exec, p, s, opt, target_of<Exec>(pol), c);
-  report(pol, c);
-  return d;
+/// The Thrust execution policy a backend policy runs on.
+inline auto exec_of(const par_t&) { return ::thrust::device; }
+template <class E>
+const E& exec_of(const par_on_t<E>& pol) {
+  return pol.exec;
 }
-template <class Exec, class P>
-sparse_solution<typename P::value_type> bounded_on(const Exec& exec, const par_t& pol, const P& p,
-                                                   const std::vector<source<typename P::value_type>>& s,
-                                                   typename P::value_type radius) {
+/// par_t and every par_on_t<E>: the policies the hooks below accept.
+template <class Pol>
+using if_policy = std::enable_if_t<std::is_base_of_v<par_t, Pol>, int>;
+/// Calls f(exec, target, counts) on @p pol's execution policy and batch target, then reports the
+/// counts to @p pol's stats.
+template <class Pol, class F>
+auto counted(const Pol& pol, F&& f) {
+  const auto& exec = exec_of(pol);
   engine_counts c;
-  auto r = bounded(exec, p, s, radius, target_of<Exec>(pol), c);
-  report(pol, c);
-  return r;
-}
-template <class Exec, class P>
-query_cells<typename P::value_type> queries_on(const Exec& exec, const par_t& pol, const P& p,
-                                               const diagram<typename P::value_type, P::dim>& d,
-                                               const std::vector<index_t>& q) {
-  engine_counts c;
-  auto r = insert_queries(exec, p, d, q, target_of<Exec>(pol), c);
-  c.reached = r.voxel.size();
+  auto r = f(exec, target_of<std::decay_t<decltype(exec)>>(pol), c);
   report(pol, c);
   return r;
 }
 }  // namespace detail
 
-/// Dense multi-source solve (backend hook; call geovoronoi::voronoi or geovoronoi::geodesic_solve).
-/// Labels are exact (tie rule) after a targeted repair pass; see detail/repair.hpp.
-template <class P>
-diagram<typename P::value_type, P::dim> backend_solve(const par_t& pol, const P& p,
+/// Dense multi-source solve (backend hook; call geovoronoi::voronoi or geovoronoi::geodesic_solve),
+/// for par and par_on(...). Labels are exact (tie rule) after a targeted repair pass; see
+/// detail/repair.hpp.
+template <class Pol, class P, detail::if_policy<Pol> = 0>
+diagram<typename P::value_type, P::dim> backend_solve(const Pol& pol, const P& p,
                                                       const std::vector<source<typename P::value_type>>& s,
-                                                      const solve_options& opt) {
-  return detail::solve_on(::thrust::device, pol, p, s, opt);
-}
-/// @copydoc backend_solve
-template <class E, class P>
-diagram<typename P::value_type, P::dim> backend_solve(const par_on_t<E>& pol, const P& p,
-                                                      const std::vector<source<typename P::value_type>>& s,
-                                                      const solve_options& opt) {
-  return detail::solve_on(pol.exec, pol, p, s, opt);
+                                                      typename P::value_type radius) {
+  return detail::counted(pol, [&](const auto& exec, index_t target, detail::engine_counts& c) {
+    return detail::solve(exec, p, s, radius, target, c);
+  });
 }
 
 /// Bounded (sparse) solve (backend hook; call geovoronoi::bounded_solve or single_source).
 /// Scratch memory on this backend is proportional to the grid, not to the voxels reached.
-template <class P>
-sparse_solution<typename P::value_type> backend_bounded(const par_t& pol, const P& p,
+template <class Pol, class P, detail::if_policy<Pol> = 0>
+sparse_solution<typename P::value_type> backend_bounded(const Pol& pol, const P& p,
                                                         const std::vector<source<typename P::value_type>>& s,
                                                         typename P::value_type radius) {
-  return detail::bounded_on(::thrust::device, pol, p, s, radius);
-}
-/// @copydoc backend_bounded
-template <class E, class P>
-sparse_solution<typename P::value_type> backend_bounded(const par_on_t<E>& pol, const P& p,
-                                                        const std::vector<source<typename P::value_type>>& s,
-                                                        typename P::value_type radius) {
-  return detail::bounded_on(pol.exec, pol, p, s, radius);
+  return detail::counted(pol, [&](const auto& exec, index_t target, detail::engine_counts& c) {
+    return detail::bounded(exec, p, s, radius, target, c);
+  });
 }
 
 /// Batched insert-query (backend hook; call geovoronoi::insert_queries or insert_query).
-template <class P>
-query_cells<typename P::value_type> backend_insert_queries(const par_t& pol, const P& p,
+template <class Pol, class P, detail::if_policy<Pol> = 0>
+query_cells<typename P::value_type> backend_insert_queries(const Pol& pol, const P& p,
                                                            const diagram<typename P::value_type, P::dim>& d,
                                                            const std::vector<index_t>& q) {
-  return detail::queries_on(::thrust::device, pol, p, d, q);
-}
-/// @copydoc backend_insert_queries
-template <class E, class P>
-query_cells<typename P::value_type> backend_insert_queries(const par_on_t<E>& pol, const P& p,
-                                                           const diagram<typename P::value_type, P::dim>& d,
-                                                           const std::vector<index_t>& q) {
-  return detail::queries_on(pol.exec, pol, p, d, q);
+  return detail::counted(pol, [&](const auto& exec, index_t target, detail::engine_counts& c) {
+    auto r = detail::insert_queries(exec, p, d, q, target, c);
+    c.reached = r.voxel.size();
+    return r;
+  });
 }
 
 /**
@@ -193,15 +175,9 @@ query_cells<typename P::value_type> backend_insert_queries(const par_on_t<E>& po
  * concurrently for different i. If a call throws, calls not yet started are skipped and the first
  * exception is rethrown here after every thread has finished.
  */
-template <class F>
-void backend_host_parallel_for(const par_t& pol, index_t n, F&& f) {
-  (void)pol;
-  detail::host_parallel_for(::thrust::device, n, f);
-}
-/// @copydoc backend_host_parallel_for
-template <class E, class F>
-void backend_host_parallel_for(const par_on_t<E>& pol, index_t n, F&& f) {
-  detail::host_parallel_for(pol.exec, n, f);
+template <class Pol, class F, detail::if_policy<Pol> = 0>
+void backend_host_parallel_for(const Pol& pol, index_t n, F&& f) {
+  detail::host_parallel_for(detail::exec_of(pol), n, f);
 }
 
 }  // namespace thrust

@@ -13,6 +13,7 @@
 #include <geovoronoi/backend/thrust/detail/atomics.hpp>
 #include <geovoronoi/backend/thrust/detail/system.hpp>
 #include <geovoronoi/detail/key.hpp>
+#include <geovoronoi/detail/stencil_walk.hpp>
 #include <geovoronoi/error.hpp>
 #include <geovoronoi/metric.hpp>
 
@@ -37,46 +38,6 @@ struct engine_counts {
   std::uint64_t relabelled = 0;  ///< voxels whose label the repair recomputed (suspects and their heirs)
 };
 
-/// Grid extents for neighbour walks inside functors.
-struct extents3 {
-  index_t nx, ny, nz;
-  bool small;  ///< fewer than 2^32 voxels: coordinates decode with 32-bit divisions
-};
-
-template <class P>
-extents3 extents_of(const P& p) noexcept {
-  return {p.geometry.extent(0), p.geometry.extent(1), P::dim == 3 ? p.geometry.extent(P::dim - 1) : 1,
-          p.geometry.size() <= index_t(UINT32_MAX)};
-}
-
-/// Calls f(k, v) for every neighbour v = u + offset k inside the grid.
-template <class P, class F>
-GEOVORONOI_HOST_DEVICE inline void for_each_neighbour(const P& p, const extents3& e, index_t u, F& f) {
-  index_t x, y, z;
-  if (e.small) {
-    const std::uint32_t uu = std::uint32_t(u), nx = std::uint32_t(e.nx), nxy = std::uint32_t(e.nx * e.ny);
-    const std::uint32_t zz = uu / nxy, r = uu - zz * nxy, yy = r / nx;
-    x = index_t(r - yy * nx), y = index_t(yy), z = index_t(zz);
-  } else {
-    const index_t nxy = e.nx * e.ny;
-    z = u / nxy;
-    const index_t r = u - z * nxy;
-    y = r / e.nx;
-    x = r - y * e.nx;
-  }
-  const bool interior =
-      x > 0 && x < e.nx - 1 && y > 0 && y < e.ny - 1 && (P::dim == 2 || (z > 0 && z < e.nz - 1));
-  if (interior) {
-    for (int k = 0; k < P::neighbours; ++k) f(k, u + p.edges.delta[k]);
-    return;
-  }
-  for (int k = 0; k < P::neighbours; ++k) {
-    const index_t xx = x + p.edges.offset[k][0], yy = y + p.edges.offset[k][1], zz = z + p.edges.offset[k][2];
-    if (xx < 0 || xx >= e.nx || yy < 0 || yy >= e.ny || zz < 0 || zz >= e.nz) continue;
-    f(k, u + p.edges.delta[k]);
-  }
-}
-
 /// Reserve @p k slots of a shared list; returns the first.
 GEOVORONOI_HOST_DEVICE inline index_t reserve(index_t* count, index_t k) noexcept {
 #ifdef __CUDA_ARCH__
@@ -84,6 +45,20 @@ GEOVORONOI_HOST_DEVICE inline index_t reserve(index_t* count, index_t k) noexcep
 #else
   return __atomic_fetch_add(count, k, __ATOMIC_RELAXED);
 #endif
+}
+
+/// Appends a functor's staged voxels to the shared lists, with one reservation each: @p a near ones
+/// from the front of @p stage, @p b far ones from its back (@p top entries in all).
+GEOVORONOI_HOST_DEVICE inline void flush_stage(const index_t* stage, index_t top, index_t a, index_t b,
+                                               index_t* sizes, index_t* near_out, index_t* far_out) noexcept {
+  if (a) {
+    const index_t at = reserve(sizes, a);
+    for (index_t i = 0; i < a; ++i) near_out[at + i] = stage[i];
+  }
+  if (b) {
+    const index_t at = reserve(sizes + 1, b);
+    for (index_t i = 0; i < b; ++i) far_out[at + i] = stage[top - 1 - i];
+  }
 }
 
 /// Expands near-list entries [j*Chunk, (j+1)*Chunk). Queued neighbours are staged locally (near ones
@@ -98,7 +73,7 @@ struct expand_fn {
   static constexpr index_t top = index_t(Chunk) * N;
 
   P p;
-  extents3 ext;
+  geovoronoi::detail::stencil_walker<P::dim> walk;
   index_t n;
   cell* keys;
   flag_t* flags;
@@ -121,7 +96,7 @@ struct expand_fn {
 #ifndef __CUDA_ARCH__
       if (i + 2 < count) {  // prefetch the neighbourhood of the voxel expanded two steps ahead
         const index_t w = list[i + 2];
-        const index_t nx = ext.nx, nxy = ext.nx * ext.ny;
+        const index_t nx = walk.nx, nxy = walk.nxy;
         for (int dz = P::dim == 3 ? -1 : 0; dz <= (P::dim == 3 ? 1 : 0); ++dz)
           for (int dy = -1; dy <= 1; ++dy) {
             const index_t c = w + dz * nxy + dy * nx;
@@ -168,16 +143,9 @@ struct expand_fn {
           stage[top - 1 - b++] = v;
         }
       };
-      for_each_neighbour(p, ext, u, relax);
+      walk.for_each_neighbour(p, u, relax);
     }
-    if (a) {
-      const index_t at = reserve(sizes, a);
-      for (index_t i = 0; i < a; ++i) near_out[at + i] = stage[i];
-    }
-    if (b) {
-      const index_t at = reserve(sizes + 1, b);
-      for (index_t i = 0; i < b; ++i) far_out[at + i] = stage[top - 1 - i];
-    }
+    flush_stage(stage, top, a, b, sizes, near_out, far_out);
   }
 };
 
@@ -210,14 +178,7 @@ struct split_fn {
         stage[Chunk - 1 - b++] = v;
       }
     }
-    if (a) {
-      const index_t at = reserve(sizes, a);
-      for (index_t i = 0; i < a; ++i) near_out[at + i] = stage[i];
-    }
-    if (b) {
-      const index_t at = reserve(sizes + 1, b);
-      for (index_t i = 0; i < b; ++i) far_out[at + i] = stage[Chunk - 1 - i];
-    }
+    flush_stage(stage, Chunk, a, b, sizes, near_out, far_out);
   }
 };
 
@@ -335,7 +296,7 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
   constexpr int chunk = device ? 1 : 32;
   constexpr int split_chunk = device ? 1 : 64;
   const index_t cap = device ? (index_t(1) << 18) : (index_t(1) << 14);
-  const extents3 ext = extents_of(p);
+  const geovoronoi::detail::stencil_walker<P::dim> walk(p);
   const index_t n = p.geometry.size();
   target = std::max<index_t>(target, 1);
 
@@ -384,7 +345,7 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
       grow(far, far_size + cnt * N);
       set_sizes<Exec>(sizes, next_size, far_size);
       parallel_for(exec, (cnt + chunk - 1) / chunk,
-                   expand_fn<P, Accept, chunk>{p, ext, n, keys, flags, raw(near) + s, cnt, raw(next), raw(far), raw(sizes),
+                   expand_fn<P, Accept, chunk>{p, walk, n, keys, flags, raw(near) + s, cnt, raw(next), raw(far), raw(sizes),
                                                theta, accept, raw(error)},
                    cnt * N);
       next_size = read<Exec>(raw(sizes));

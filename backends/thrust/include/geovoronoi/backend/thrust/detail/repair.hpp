@@ -62,7 +62,7 @@ std::size_t repair_labels(const P& p, Store& st, const std::vector<source<typena
                           std::vector<index_t> set) {
   using T = typename P::value_type;
   if (set.empty()) return 0;
-  const extents3 ext = extents_of(p);
+  const geovoronoi::detail::stencil_walker<P::dim> walk(p);
 
   // sources by voxel, for the label a source gives its own voxel (if its distance is the final one)
   std::vector<std::pair<index_t, std::size_t>> by_voxel(sources.size());
@@ -97,7 +97,7 @@ std::size_t repair_labels(const P& p, Store& st, const std::vector<source<typena
         set.push_back(y);
       }
     };
-    for_each_neighbour(p, ext, x, visit);
+    walk.for_each_neighbour(p, x, visit);
   }
 
   // 2. recompute in increasing distance from "none"; equal distances iterate to their fixed point
@@ -130,7 +130,7 @@ std::size_t repair_labels(const P& p, Store& st, const std::vector<source<typena
           const T nd = st.distance[iu] + p.metric(p.edges.length[k], p.field[u], fv);
           if (nd == dv) best = lu;
         };
-        for_each_neighbour(p, ext, v, take);
+        walk.for_each_neighbour(p, v, take);
         if (best != st.label[iv]) {
           st.label[iv] = best;
           changed = true;

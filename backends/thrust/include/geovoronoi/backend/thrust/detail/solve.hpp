@@ -60,10 +60,11 @@ struct unpack_fn {
   }
 };
 
-/// Host systems: unpack_fn over chunks of voxels, also counting each chunk's reached and suspect
-/// voxels (counts[2j], counts[2j+1]).
+/// Host systems: over chunks of voxels, counts each chunk's suspect voxels and, unless
+/// unpack.distance is null, unpacks the keys and counts the reached voxels too. Counts go to
+/// counts[2j] (reached) and counts[2j+1] (suspects) when unpacking, else to counts[j].
 template <class T>
-struct unpack_chunk_fn {
+struct scan_chunk_fn {
   unpack_fn<T> unpack;
   const flag_t* flags;
   index_t n;
@@ -71,28 +72,21 @@ struct unpack_chunk_fn {
   index_t* counts;
   void operator()(index_t j) const {
     const index_t begin = j * chunk, end = std::min(n, begin + chunk);
+    const bool unpacking = unpack.distance != nullptr;
     index_t reached = 0, suspects = 0;
     for (index_t v = begin; v < end; ++v) {
-      unpack(v);
-      reached += unpack.label[v] != no_label;
+      if (unpacking) {
+        unpack(v);
+        reached += unpack.label[v] != no_label;
+      }
       suspects += (flags[v] & suspect_bit) != 0;
     }
-    counts[2 * j] = reached;
-    counts[2 * j + 1] = suspects;
-  }
-};
-
-/// Host systems: per-chunk count of suspect voxels.
-struct count_suspects_fn {
-  const flag_t* flags;
-  index_t n;
-  index_t chunk;
-  index_t* counts;
-  void operator()(index_t j) const {
-    const index_t begin = j * chunk, end = std::min(n, begin + chunk);
-    index_t c = 0;
-    for (index_t v = begin; v < end; ++v) c += (flags[v] & suspect_bit) != 0;
-    counts[j] = c;
+    if (unpacking) {
+      counts[2 * j] = reached;
+      counts[2 * j + 1] = suspects;
+    } else {
+      counts[j] = suspects;
+    }
   }
 };
 
@@ -135,7 +129,9 @@ std::vector<index_t> collect_suspects(const Exec& exec, const flag_t* flags, ind
     const index_t chunk = 16384;
     const index_t chunks = (n + chunk - 1) / chunk;
     std::vector<index_t> counts(static_cast<std::size_t>(chunks));
-    parallel_for(exec, chunks, count_suspects_fn{flags, n, chunk, counts.data()}, n);
+    // counting only: nothing is unpacked, so the key type does not matter
+    const scan_chunk_fn<float> count{{nullptr, nullptr, nullptr, 0.0f}, flags, n, chunk, counts.data()};
+    parallel_for(exec, chunks, count, n);
     return gather_suspects(flags, n, chunk, counts.data(), 1);
   }
 }
@@ -178,17 +174,26 @@ void seed(const Exec& exec, dense_state<Exec, T>& st, index_t n, const std::vect
   parallel_for(exec, st.far_size, seed_fn<T>{raw(vv), raw(kv), raw(st.keys), raw(st.flags)}, st.far_size);
 }
 
+/// Seeds @p st with the sources below @p radius and runs the engine bounded by the radius: the common
+/// start of the dense and the bounded solves.
+template <class Exec, class P>
+engine_counts run_below(const Exec& exec, const P& p, const std::vector<source<typename P::value_type>>& sources,
+                        typename P::value_type radius, index_t target,
+                        dense_state<Exec, typename P::value_type>& st) {
+  using T = typename P::value_type;
+  seed(exec, st, p.geometry.size(), sources, [radius](const source<T>& s) { return s.distance < radius; });
+  return run(exec, p, raw(st.keys), raw(st.flags), st.far, st.far_size, below_radius<T>{radius}, target);
+}
+
 /// Dense solve: distance and label images, labels repaired (see repair.hpp).
 template <class Exec, class P>
 diagram<typename P::value_type, P::dim> solve(const Exec& exec, const P& p,
                                               const std::vector<source<typename P::value_type>>& sources,
-                                              const solve_options& opt, index_t target, engine_counts& counts) {
+                                              typename P::value_type radius, index_t target, engine_counts& counts) {
   using T = typename P::value_type;
   const index_t n = p.geometry.size();
-  const T radius = static_cast<T>(opt.max_distance);
   dense_state<Exec, T> st;
-  seed(exec, st, n, sources, [radius](const source<T>& s) { return s.distance < radius; });
-  counts = run(exec, p, raw(st.keys), raw(st.flags), st.far, st.far_size, below_radius<T>{radius}, target);
+  counts = run_below(exec, p, sources, radius, target, st);
   diagram<T, P::dim> d;
   d.distance = image<T, P::dim>(p.geometry, T(0));
   d.label = image<label_t, P::dim>(p.geometry, no_label);
@@ -209,7 +214,7 @@ diagram<typename P::value_type, P::dim> solve(const Exec& exec, const P& p,
     const index_t chunks = (n + chunk - 1) / chunk;
     std::vector<index_t> c(static_cast<std::size_t>(2 * chunks));
     const unpack_fn<T> unpack{raw(st.keys), d.distance.data(), d.label.data(), inf};
-    parallel_for(exec, chunks, unpack_chunk_fn<T>{unpack, raw(st.flags), n, chunk, c.data()}, n);
+    parallel_for(exec, chunks, scan_chunk_fn<T>{unpack, raw(st.flags), n, chunk, c.data()}, n);
     for (index_t j = 0; j < chunks; ++j) counts.reached += static_cast<std::uint64_t>(c[2 * j]);
     suspects = gather_suspects(raw(st.flags), n, chunk, c.data() + 1, 2);
   }
@@ -297,8 +302,7 @@ sparse_solution<typename P::value_type> bounded(const Exec& exec, const P& p,
   using T = typename P::value_type;
   const index_t n = p.geometry.size();
   dense_state<Exec, T> st;
-  seed(exec, st, n, sources, [radius](const source<T>& s) { return s.distance < radius; });
-  counts = run(exec, p, raw(st.keys), raw(st.flags), st.far, st.far_size, below_radius<T>{radius}, target);
+  counts = run_below(exec, p, sources, radius, target, st);
   auto r = extract(exec, raw(st.keys), n);
   counts.reached = r.size();
   auto suspects = collect_suspects(exec, raw(st.flags), n);

@@ -1,0 +1,92 @@
+#pragma once
+// The solvers' dispatch layer: calls a backend's hooks on input that is already checked and
+// normalised. The public entry points (voronoi.hpp) check and normalise once, then come here; the
+// library's own callers (the shape functions) come here directly with input they built themselves
+// and know to be valid, so nothing is re-checked, re-sorted or formatted per node or per query.
+//
+// Preconditions, which nothing here checks:
+//   sources: non-empty, distinct voxels inside the grid and the domain, finite initial distances
+//            >= +0 (never -0: its sign bit would order its packed key after every positive one),
+//            labels >= 0;
+//   radius:  not NaN, already in the distance type T (no conversion from double here);
+//   queries: voxels inside the grid and the domain; the diagram is on the problem's grid.
+
+#include <geovoronoi/detail/parents.hpp>
+#include <geovoronoi/policy.hpp>
+#include <geovoronoi/result.hpp>
+
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+namespace geovoronoi::detail::dispatch {
+
+template <class Policy, class P, class = void>
+struct has_solve : std::false_type {};
+template <class Policy, class P>
+struct has_solve<Policy, P,
+                 std::void_t<decltype(backend_solve(std::declval<const Policy&>(), std::declval<const P&>(),
+                                                    std::declval<const std::vector<source<typename P::value_type>>&>(),
+                                                    std::declval<typename P::value_type>()))>> : std::true_type {};
+template <class Policy, class P, class = void>
+struct has_bounded : std::false_type {};
+template <class Policy, class P>
+struct has_bounded<Policy, P,
+                   std::void_t<decltype(backend_bounded(std::declval<const Policy&>(), std::declval<const P&>(),
+                                                        std::declval<const std::vector<source<typename P::value_type>>&>(),
+                                                        std::declval<typename P::value_type>()))>> : std::true_type {};
+template <class Policy, class P, class = void>
+struct has_insert : std::false_type {};
+template <class Policy, class P>
+struct has_insert<Policy, P,
+                  std::void_t<decltype(backend_insert_queries(
+                      std::declval<const Policy&>(), std::declval<const P&>(),
+                      std::declval<const diagram<typename P::value_type, P::dim>&>(),
+                      std::declval<const std::vector<index_t>&>()))>> : std::true_type {};
+
+/// Dense solve below @p radius; the seeds' voxels recorded, the parent image added on request.
+template <class Policy, class P>
+diagram<typename P::value_type, P::dim> solve(const Policy& policy, const P& p,
+                                              const std::vector<source<typename P::value_type>>& sources,
+                                              typename P::value_type radius, bool with_parent) {
+  if constexpr (is_backend_policy_v<Policy>) {  // else the entry point's static_assert has spoken
+    static_assert(has_solve<Policy, P>::value,
+                  "geovoronoi: this backend provides no dense solve (backend_solve) for this problem");
+    if constexpr (has_solve<Policy, P>::value) {
+      auto d = backend_solve(policy, p, sources, radius);
+      d.seeds.reserve(sources.size());
+      for (const auto& x : sources) d.seeds.push_back(x.voxel);
+      if (with_parent) compute_parents(p, d, sources);
+      return d;
+    }
+  }
+  return {};
+}
+
+/// Bounded (sparse) solve: the voxels below @p radius, sorted by voxel.
+template <class Policy, class P>
+sparse_solution<typename P::value_type> bounded(const Policy& policy, const P& p,
+                                                const std::vector<source<typename P::value_type>>& sources,
+                                                typename P::value_type radius) {
+  if constexpr (is_backend_policy_v<Policy>) {
+    static_assert(has_bounded<Policy, P>::value,
+                  "geovoronoi: this backend provides no bounded solve (backend_bounded) for this problem");
+    if constexpr (has_bounded<Policy, P>::value) return backend_bounded(policy, p, sources, radius);
+  }
+  return {};
+}
+
+/// New cells of @p queries in @p d.
+template <class Policy, class P>
+query_cells<typename P::value_type> insert_queries(const Policy& policy, const P& p,
+                                                   const diagram<typename P::value_type, P::dim>& d,
+                                                   const std::vector<index_t>& queries) {
+  if constexpr (is_backend_policy_v<Policy>) {
+    static_assert(has_insert<Policy, P>::value,
+                  "geovoronoi: this backend provides no insert-query (backend_insert_queries) for this problem");
+    if constexpr (has_insert<Policy, P>::value) return backend_insert_queries(policy, p, d, queries);
+  }
+  return {};
+}
+
+}  // namespace geovoronoi::detail::dispatch
