@@ -17,6 +17,7 @@ using geovoronoi::label_t;
 namespace {
 
 /// The pixels of a 5x7 glyph drawn by hand, row by row ('#' ink).
+const char* const zero_glyph[7] = {".###.", "#...#", "#...#", "#...#", "#...#", "#...#", ".###."};
 const char* const one_glyph[7] = {"..#..", ".##..", "..#..", "..#..", "..#..", "..#..", ".###."};
 const char* const e_glyph[7] = {"#####", "#....", "#....", "####.", "#....", "#....", "#####"};
 
@@ -51,14 +52,15 @@ TEST_CASE("picture: text puts ink where the glyphs say, at any scale") {
   const gio::rgb ink{255, 255, 255};
   for (int scale : {1, 2, 3}) {
     gio::rgb_image pic(40 * scale, 10 * scale);
-    gd::draw_text(pic, 1, 2, "1e", scale, ink);  // lower case is drawn as capitals
+    gd::draw_text(pic, 1, 2, "1e0", scale, ink);  // lower case is drawn as capitals
     check_glyph(pic, 1, 2, scale, one_glyph, ink);
     check_glyph(pic, 1 + 6 * scale, 2, scale, e_glyph, ink);
+    check_glyph(pic, 1 + 12 * scale, 2, scale, zero_glyph, ink);
     // nothing in the blank column between the glyphs, nor above or below
     for (index_t y = 0; y < pic.height; ++y)
       for (int dx = 0; dx < scale; ++dx) CHECK(pic.get(1 + 5 * scale + dx, y) != ink);
     for (index_t x = 0; x < pic.width; ++x) CHECK(pic.get(x, 1) != ink);
-    CHECK(gd::text_width("1e", scale) == 11 * scale);
+    CHECK(gd::text_width("1e0", scale) == 17 * scale);
   }
   // an unknown character is a question mark, not nothing
   gio::rgb_image q(8, 9), unknown(8, 9);
@@ -180,7 +182,7 @@ TEST_CASE("picture: the colour bar runs from heat(0) at the bottom to heat(1) at
   CHECK(pic.get(bx, y) == bottom_colour);
   CHECK(y - by + 1 >= 100);
   // in the panel, the left column (x = 0) is heat(0) and the right column heat(1)
-  const index_t py = panel_top(1) + L.views[0].cy(20);
+  const index_t py = panel_top(2) + L.views[0].cy(20);  // RAMP, then the grid
   CHECK(pic.get(8 + L.views[0].cx(0), py) == bottom_colour);
   CHECK(pic.get(8 + L.views[0].cx(59), py) == top_colour);
 }
@@ -194,13 +196,13 @@ TEST_CASE("picture: clipped values take the end colour, the rest keep their shad
   const auto L = gd::make_layout(g, o);
   const auto pic = gio::heat_picture(x, gio::robust_range(x, 0.0, 99.0), "X", {}, o, 0);
   const auto& w = L.views[0];
-  auto at = [&](index_t i, index_t j) { return pic.get(8 + w.cx(i), panel_top(0) + w.cy(j)); };
+  auto at = [&](index_t i, index_t j) { return pic.get(8 + w.cx(i), panel_top(1) + w.cy(j)); };
   CHECK(at(49, 10) == gio::heat_colour(1.0));
   CHECK(at(25, 10) != gio::heat_colour(1.0));
   CHECK(at(25, 10) == gio::heat_colour(25.0 / 49.0));  // the 99th percentile of 0..49 (and one more) is 49
   // a linear range would have drawn everything but the outlier in heat(0)
   const auto lin = gio::heat_picture(x, gio::robust_range(x, 0.0, 100.0), "X", {}, o, 0);
-  CHECK(lin.get(8 + w.cx(25), panel_top(0) + w.cy(10)) == gio::heat_colour(0.0));
+  CHECK(lin.get(8 + w.cx(25), panel_top(1) + w.cy(10)) == gio::heat_colour(0.0));
 }
 
 TEST_CASE("picture: node markers: filled in the slice with the node's colour and numbered, hollow off it") {
@@ -243,7 +245,7 @@ TEST_CASE("picture: stiff material is hatched and named in the legend") {
   const auto pic = gio::label_picture(label, {}, &stiff, o);
   std::set<std::tuple<int, int, int>> in_bar;
   const auto& w = L.views[0];
-  for (index_t y = panel_top(0) + 2; y < panel_top(0) + L.height - 2; ++y)
+  for (index_t y = panel_top(1) + 2; y < panel_top(1) + L.height - 2; ++y)
     for (index_t x = 8 + w.cx(20) - 2; x <= 8 + w.cx(21) + 2; ++x) {
       const auto c = pic.get(x, y);
       in_bar.insert({c.r, c.g, c.b});
@@ -252,5 +254,5 @@ TEST_CASE("picture: stiff material is hatched and named in the legend") {
   CHECK(in_bar.count({gio::label_colour(0).r, gio::label_colour(0).g, gio::label_colour(0).b}) == 0);
   // without the stiffness image the same pixels are the cell's colour
   const auto plain = gio::label_picture(label, {}, static_cast<const geovoronoi::image<float, 2>*>(nullptr), o);
-  CHECK(plain.get(8 + w.cx(20), panel_top(0) + w.cy(10)) == gio::label_colour(0));
+  CHECK(plain.get(8 + w.cx(20), panel_top(1) + w.cy(10)) == gio::label_colour(0));
 }

@@ -457,11 +457,19 @@ rgb_image assemble(const grid<Dim>& g, const picture_options& o, const column& c
   const auto cs = o.legend ? column_size(col, s) : std::array<index_t, 2>{0, 0};
   index_t width = L.width + (o.legend ? gap + cs[0] : 0);
   std::vector<std::string> title_lines = o.title;
+  std::string grid_text, spacing_text;
+  for (int a = 0; a < Dim; ++a) {
+    grid_text += (a ? "X" : "") + std::to_string(g.extent(a));
+    spacing_text += (a ? "X" : "") + format_value(g.spacing(a));
+  }
+  grid_text += " VOXELS OF " + spacing_text;
   if (Dim == 3 && L.views.size() == 3)
     title_lines.push_back("SLICES THROUGH VOXEL (" + std::to_string(L.at[0]) + ", " + std::to_string(L.at[1]) + ", " +
-                          std::to_string(L.at[2]) + ")");
+                          std::to_string(L.at[2]) + ") OF " + grid_text);
   else if (Dim == 3 && g.extent(2) > 1)
-    title_lines.push_back("SLICE Z=" + std::to_string(L.at[2]));
+    title_lines.push_back("SLICE Z=" + std::to_string(L.at[2]) + " OF " + grid_text);
+  else
+    title_lines.push_back(grid_text);
   std::vector<std::string> lines;
   for (const auto& t : title_lines)
     for (auto& l : wrap(t, width, s)) width = std::max(width, text_width(l, s)), lines.push_back(std::move(l));
