@@ -33,7 +33,7 @@ void check_glyph(const gio::rgb_image& pic, index_t x0, index_t y0, int scale, c
 }
 
 /// Row of the panels' top edge in a picture with `lines` title lines (text scale 2, margin 8).
-index_t panel_top(int lines) { return 8 + lines * (7 * 2 + 3 * 2) + (lines ? 2 : 0); }
+index_t panel_top(int lines) { return 8 + lines * (7 * 2 + 3 * 2) + (lines ? 6 : 0); }
 
 }  // namespace
 

@@ -465,16 +465,16 @@ rgb_image assemble(const grid<Dim>& g, const picture_options& o, const column& c
   grid_text += " VOXELS OF " + spacing_text;
   if (Dim == 3 && L.views.size() == 3)
     title_lines.push_back("SLICES THROUGH VOXEL (" + std::to_string(L.at[0]) + ", " + std::to_string(L.at[1]) + ", " +
-                          std::to_string(L.at[2]) + ") OF " + grid_text);
+                          std::to_string(L.at[2]) + ") IN " + grid_text);
   else if (Dim == 3 && g.extent(2) > 1)
-    title_lines.push_back("SLICE Z=" + std::to_string(L.at[2]) + " OF " + grid_text);
+    title_lines.push_back("SLICE Z=" + std::to_string(L.at[2]) + " IN " + grid_text);
   else
     title_lines.push_back(grid_text);
   std::vector<std::string> lines;
   for (const auto& t : title_lines)
     for (auto& l : wrap(t, width, s)) width = std::max(width, text_width(l, s)), lines.push_back(std::move(l));
   const index_t line = text_height(s) + 3 * s;
-  const index_t top = margin + index_t(lines.size()) * line + (lines.empty() ? 0 : s);
+  const index_t top = margin + index_t(lines.size()) * line + (lines.empty() ? 0 : 3 * s);
   const index_t height = top + std::max(L.height, cs[1]) + margin;
   rgb_image pic(width + 2 * margin, height, picture_background);
   for (std::size_t i = 0; i < lines.size(); ++i) draw_text(pic, margin, margin + index_t(i) * line, lines[i], s, picture_ink);
