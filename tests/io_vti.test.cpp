@@ -109,3 +109,46 @@ TEST_CASE("vti: arrays of the wrong size or grid are rejected") {
   CHECK_THROWS_AS(w.add("other", geovoronoi::image<float, 3>(geovoronoi::grid<3>({3, 2, 2}))), std::invalid_argument);
   CHECK_THROWS_AS(w.write(scratch("no/such/dir/x.vti")), gio::io_error);
 }
+
+TEST_CASE("vti: K-component weights and node indices (shape functions) read back voxel by voxel") {
+  const geovoronoi::grid<3> g({5, 4, 3}, {1.0, 1.0, 3.0});
+  const int k = 3;
+  const std::size_t n = std::size_t(g.size());
+  std::vector<float> weights(n * k);
+  std::vector<std::int32_t> nodes(n * k);
+  for (std::size_t v = 0; v < n; ++v)
+    for (int s = 0; s < k; ++s) {
+      weights[v * k + std::size_t(s)] = float(v) + 0.25f * float(s);
+      nodes[v * k + std::size_t(s)] = s == 2 && v % 2 ? -1 : std::int32_t(v % 7 + std::size_t(s));
+    }
+  for (auto enc : {gio::vti_encoding::appended_raw, gio::vti_encoding::inline_base64}) {
+    gio::vti_writer<3> w(g, enc);
+    w.add("weights", weights.data(), weights.size(), k).add("nodes", nodes.data(), nodes.size(), k);
+    w.write(scratch("k.vti"));
+    const std::string x = io_test::read_all(scratch("k.vti"));
+    CHECK(attribute(x, "Name=\"weights\"", "NumberOfComponents") == "3");
+    CHECK(attribute(x, "Name=\"nodes\"", "NumberOfComponents") == "3");
+    CHECK(attribute(x, "Name=\"nodes\"", "type") == "Int32");
+    std::string wb, nb;  // the two blocks: 8-byte size, then the values
+    if (enc == gio::vti_encoding::appended_raw) {
+      const std::size_t base = x.find('_', x.find("encoding=\"raw\">")) + 1;
+      const std::size_t wo = std::stoul(attribute(x, "Name=\"weights\"", "offset"));
+      const std::size_t no = std::stoul(attribute(x, "Name=\"nodes\"", "offset"));
+      wb = x.substr(base + wo, 8 + n * k * 4), nb = x.substr(base + no, 8 + n * k * 4);
+    } else {
+      auto block = [&](const std::string& name) {
+        const auto a = x.find(">", x.find("Name=\"" + name + "\"")) + 1;
+        return unbase64(x.substr(a, x.find("</DataArray>", a) - a));
+      };
+      wb = block("weights"), nb = block("nodes");
+    }
+    REQUIRE(wb.size() == 8 + n * k * 4);
+    REQUIRE(nb.size() == 8 + n * k * 4);
+    std::vector<float> wback(n * k);
+    std::vector<std::int32_t> nback(n * k);
+    std::memcpy(wback.data(), wb.data() + 8, n * k * 4);
+    std::memcpy(nback.data(), nb.data() + 8, n * k * 4);
+    CHECK(wback == weights);
+    CHECK(nback == nodes);
+  }
+}

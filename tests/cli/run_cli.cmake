@@ -110,7 +110,7 @@ foreach(method sibson distance-ratio laplace)
   run(shape_${method} 0 shape-functions --stiffness stiff.pgm --extrude 4 --seeds seeds.csv --method ${method}
       --nodes-per-voxel 3 --out out-${method})
   math(EXPR kbytes "${voxels} * 3 * 4")
-  foreach(f indices.raw weights.raw)
+  foreach(f indices.raw weights.raw indices_sofa_planar.raw weights_sofa_planar.raw)
     file(SIZE ${WORK}/out-${method}/${f} size)
     if(NOT size EQUAL kbytes)
       fail("${method}/${f} has ${size} bytes, expected ${kbytes}")
@@ -120,9 +120,32 @@ foreach(method sibson distance-ratio laplace)
   if(NOT hdr MATCHES "ElementType = MET_UINT" OR NOT hdr MATCHES "ElementNumberOfChannels = 3")
     fail("${method}/indices.mhd header: ${hdr}")
   endif()
-  foreach(f weights_indptr.npy weights_indices.npy weights_data.npy weight_node0.png labels.png label.mhd)
+  foreach(f weights_indptr.npy weights_indices.npy weights_data.npy weight_node0.png labels.png label.mhd weights.vti)
     expect_file(${WORK}/out-${method}/${f} 50)
   endforeach()
+  # the interleaved copy (weights.mhd, for ITK/ParaView) and SOFA's planar one hold the same values,
+  # each voxel's K weights together in the first and each slot's N values together in the second
+  file(READ ${WORK}/out-${method}/weights_sofa_planar.mhd hdr)
+  if(NOT hdr MATCHES "ElementNumberOfChannels = 3" OR NOT hdr MATCHES "ElementDataFile = weights_sofa_planar.raw")
+    fail("${method}/weights_sofa_planar.mhd header: ${hdr}")
+  endif()
+  file(READ ${WORK}/out-${method}/weights.raw inter HEX)
+  file(READ ${WORK}/out-${method}/weights_sofa_planar.raw planar HEX)
+  # voxel 17 (two nodes or more in every method): slot s at byte (17*3 + s)*4 interleaved, (s*N + 17)*4 planar
+  foreach(slot 0 1 2)
+    math(EXPR ia "(17 * 3 + ${slot}) * 8")
+    math(EXPR pa "(${slot} * ${voxels} + 17) * 8")
+    string(SUBSTRING "${inter}" ${ia} 8 iv)
+    string(SUBSTRING "${planar}" ${pa} 8 pv)
+    if(NOT iv STREQUAL pv)
+      fail("${method}: weights.mhd voxel 17 slot ${slot} is ${iv}, weights_sofa_planar.mhd has ${pv}")
+    endif()
+  endforeach()
+  # ParaView sees the weights and node indices as K-component arrays
+  file(READ ${WORK}/out-${method}/weights.vti vti LIMIT 2000)
+  if(NOT vti MATCHES "Name=\"weights\" NumberOfComponents=\"3\"" OR NOT vti MATCHES "Name=\"nodes\" NumberOfComponents=\"3\"")
+    fail("${method}/weights.vti lacks the 3-component weights and nodes arrays: ${vti}")
+  endif()
   # indptr holds voxels + 1 int64 values after a 128-byte header
   file(SIZE ${WORK}/out-${method}/weights_indptr.npy size)
   math(EXPR want "128 + (${voxels} + 1) * 8")
@@ -130,6 +153,14 @@ foreach(method sibson distance-ratio laplace)
     fail("${method}/weights_indptr.npy has ${size} bytes, expected ${want}")
   endif()
 endforeach()
+
+# --picture-node picks the node whose weight is pictured
+run(picture_node 0 shape-functions --stiffness stiff.pgm --extrude 4 --seeds seeds.csv --method distance-ratio
+    --picture-node 2 --out out-picture-node)
+expect_file(${WORK}/out-picture-node/weight_node2.png 50)
+if(EXISTS ${WORK}/out-picture-node/weight_node0.png)
+  fail("--picture-node 2 also wrote weight_node0.png")
+endif()
 
 # ---- backends: the built set, the default rule, errors for the others, identical results ---------
 run(backends 0 backends)
@@ -258,6 +289,7 @@ set(cases
   "bad_method|shape-functions,${SC},--seeds,seeds.csv,--method,kriging,--out,x23|unknown method"
   "bad_k|shape-functions,${SC},--seeds,seeds.csv,--method,sibson,--nodes-per-voxel,0,--out,x24|--nodes-per-voxel"
   "demo_bad_option|demo,--size,3|unknown option"
+  "bad_picture_node|shape-functions,${SC},--seeds,seeds.csv,--method,sibson,--picture-node,3,--out,x25|--picture-node 3"
 )
 foreach(c ${cases})
   string(REPLACE "|" ";" parts "${c}")

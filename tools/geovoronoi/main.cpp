@@ -13,6 +13,7 @@
 #include "solve.hpp"
 
 #include <geovoronoi.hpp>
+#include <geovoronoi/io/picture.hpp>
 #include <geovoronoi/io/png.hpp>
 #include <geovoronoi/io/read.hpp>
 #include <geovoronoi/shape_functions.hpp>
@@ -48,7 +49,7 @@ const char* const usage_text =
     "  geovoronoi voronoi --stiffness F --seeds S.csv [--metric min_stiffness|mean_stiffness|mean_cost|uniform]\n"
     "                     [--connectivity 6|18|26] [--backend seq|thrust|cuda] [--world] [--extrude N] --out DIR\n"
     "  geovoronoi shape-functions --stiffness F --seeds S.csv --method distance-ratio|sibson|laplace\n"
-    "                     [--nodes-per-voxel K] [same options] --out DIR\n"
+    "                     [--nodes-per-voxel K] [--picture-node N] [same options] --out DIR\n"
     "  geovoronoi demo [--out DIR] [--backend B]\n"
     "  geovoronoi backends      (which backends this binary has, and the default)\n"
     "F: .mhd, .mha, .npy, or .pgm/.ppm (with --extrude N for N slices). S.csv: one seed per line, i,j,k.\n";
@@ -137,6 +138,23 @@ bool inside_by_name(const std::string& metric, float v) {
   return r;
 }
 
+/// How the pictures of a run are titled: the metric and neighbourhood, the distance's unit.
+struct picture_context {
+  std::string metric = "min_stiffness", length = "LENGTH";
+  int connectivity = 26;
+  std::string setting() const { return "METRIC " + metric + ", " + std::to_string(connectivity) + " NEIGHBOURS"; }
+  std::string distance_unit() const {
+    if (metric == "uniform") return length;
+    if (metric == "mean_cost") return length + " X COST";
+    return length + "/STIFFNESS";
+  }
+  gio::picture_options options(const std::string& what) const {
+    gio::picture_options o;
+    o.title = {what + " - " + setting()};
+    return o;
+  }
+};
+
 /// Everything a solve needs, validated.
 struct job {
   std::string stiffness_path, backend, metric = "min_stiffness", out;
@@ -144,6 +162,7 @@ struct job {
   gv::image<float, 3> field;
   std::vector<gv::coord<3>> seeds;
   gvcli::problem_spec spec() const { return {field, seeds, metric, connectivity}; }
+  picture_context pictures() const { return {metric, "LENGTH", connectivity}; }
 };
 
 job load_job(const gvcli::arguments& a) {
@@ -210,19 +229,23 @@ gio::volume<T> planar_volume(const gv::grid<3>& g, int channels) {
 }
 
 /// distance.mhd, label.mhd, labels.png, distance.png, voronoi.vti
-void write_voronoi(const gvcli::output_dir& out, const gv::diagram<float, 3>& d, const gv::image<float, 3>& field) {
+void write_voronoi(const gvcli::output_dir& out, const gv::diagram<float, 3>& d, const gv::image<float, 3>& field,
+                   const picture_context& pc) {
   gio::write_metaimage(out.file("distance.mhd"), d.distance);
   gio::write_metaimage(out.file("label.mhd"), d.label);
-  gio::write_png(out.file("labels.png"), gio::label_montage(d.label, d.seeds, &field));
-  gio::write_png(out.file("distance.png"), gio::distance_montage(d.distance, d.seeds));
+  gio::write_png(out.file("labels.png"), gio::label_picture(d.label, d.seeds, &field, pc.options("VORONOI CELLS")));
+  gio::write_png(out.file("distance.png"),
+                 gio::distance_picture(d.distance, d.seeds, pc.distance_unit(), pc.options("GEODESIC DISTANCE")));
   gio::vti_writer<3> w(d.geometry());
   w.add("label", d.label).add("distance", d.distance).add("stiffness", field);
   w.write(out.file("voronoi.vti"));
 }
 
-/// indices.mhd, weights.mhd (K planar channels, SOFA layout), weights_*.npy (CSR), weight_node<i>.png.
+/// indices.mhd, weights.mhd (K interleaved channels: ITK, ParaView, Slicer), indices_sofa_planar.mhd,
+/// weights_sofa_planar.mhd (K planar channels, SOFA's layout), weights.vti, weights_*.npy (CSR),
+/// weight_node<N>.png.
 void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, const gv::diagram<float, 3>& d,
-                 int png_node) {
+                 int png_node, const picture_context& pc, const std::string& method) {
   const auto& g = w.geometry;
   const std::size_t n = std::size_t(g.size()), k = std::size_t(w.k);
   auto idx = planar_volume<std::uint32_t>(g, w.k);
@@ -235,8 +258,20 @@ void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, c
     }
   gio::metaimage_write_options planar;
   planar.layout = gio::channel_layout::planar;
-  gio::write_metaimage(dir + "/indices.mhd", idx, planar);
-  gio::write_metaimage(dir + "/weights.mhd", wt, planar);
+  gio::write_metaimage(dir + "/indices_sofa_planar.mhd", idx, planar);
+  gio::write_metaimage(dir + "/weights_sofa_planar.mhd", wt, planar);
+  gio::write_metaimage(dir + "/indices.mhd", idx);  // interleaved: what every MetaImage reader expects
+  gio::write_metaimage(dir + "/weights.mhd", wt);
+  {
+    // ParaView: weights and node indices as K-component arrays (node index 0-based, -1 empty)
+    std::vector<std::int32_t> nodes(n * k);
+    for (std::size_t i = 0; i < n * k; ++i) nodes[i] = w.node[i] < 0 ? -1 : std::int32_t(w.node[i]);
+    std::vector<float> weights(n * k);
+    for (std::size_t i = 0; i < n * k; ++i) weights[i] = w.node[i] < 0 ? 0.0f : float(w.weight[i]);
+    gio::vti_writer<3> vw(g);
+    vw.add("label", d.label).add("weights", weights.data(), weights.size(), w.k).add("nodes", nodes.data(), nodes.size(), w.k);
+    vw.write(dir + "/weights.vti");
+  }
   auto m = w.to_sparse_matrix();
   m.makeCompressed();
   std::vector<std::int64_t> indptr(std::size_t(m.rows()) + 1);
@@ -246,12 +281,18 @@ void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, c
   gio::write_npy(dir + "/weights_indptr.npy", indptr);
   gio::write_npy(dir + "/weights_indices.npy", indices);
   gio::write_npy(dir + "/weights_data.npy", data);
+  // the pictured weight; NaN (drawn as outside) where a voxel has no weights at all
   gv::image<float, 3> one(g, 0.0f);
+  for (std::size_t v = 0; v < n; ++v) {
+    bool any = false;
+    for (std::size_t s = 0; s < k; ++s) any = any || w.node[v * k + s] >= 0;
+    if (!any) one[index_t(v)] = std::numeric_limits<float>::quiet_NaN();
+  }
   for (std::size_t v = 0; v < n; ++v)
     for (std::size_t s = 0; s < k; ++s)
       if (w.node[v * k + s] == png_node) one[index_t(v)] = float(w.weight[v * k + s]);
-  const index_t node_voxel = png_node >= 0 && std::size_t(png_node) < d.seeds.size() ? d.seeds[std::size_t(png_node)] : -1;
-  gio::write_png(dir + "/weight_node" + std::to_string(png_node) + ".png", gio::weight_montage(one, node_voxel));
+  gio::write_png(dir + "/weight_node" + std::to_string(png_node) + ".png",
+                 gio::weight_picture(one, png_node, d.seeds, pc.options(method + " SHAPE FUNCTION")));
 }
 
 gv::shape_method parse_method(const std::string& m) {
@@ -280,16 +321,17 @@ std::set<std::string> solve_options(std::set<std::string> extra = {}) {
 
 /// What voronoi and shape-functions share: load and check the job, solve the diagram, write the
 /// voronoi outputs, then `more(job, diagram, out, bar)` (the shape functions), commit, summary line.
-template <class More>
-int solve_and_write(const char* command, const gvcli::arguments& a, More&& more) {
+template <class Check, class More>
+int solve_and_write(const char* command, const gvcli::arguments& a, Check&& check, More&& more) {
   gvcli::progress_bar bar(std::string("geovoronoi ") + command);
   bar.update("reading");
   const job j = load_job(a);
+  check(j);
   gvcli::output_dir out(j.out);
   bar.update("voronoi");
   const auto d = run_voronoi(j.backend, j.spec());
   bar.update("writing");
-  write_voronoi(out, d, j.field);
+  write_voronoi(out, d, j.field, j.pictures());
   more(j, d, out, bar);
   out.commit();
   bar.finish();
@@ -299,14 +341,20 @@ int solve_and_write(const char* command, const gvcli::arguments& a, More&& more)
 
 int cmd_voronoi(const std::vector<std::string>& args) {
   const gvcli::arguments a(args, solve_options(), {"--world"});
-  return solve_and_write("voronoi", a, [](auto&&...) {});
+  return solve_and_write("voronoi", a, [](const job&) {}, [](auto&&...) {});
 }
 
 int cmd_shape(const std::vector<std::string>& args) {
-  const gvcli::arguments a(args, solve_options({"--method", "--nodes-per-voxel"}), {"--world"});
+  const gvcli::arguments a(args, solve_options({"--method", "--nodes-per-voxel", "--picture-node"}), {"--world"});
   const auto method = parse_method(a.require("--method"));
   const int k = int(a.integer("--nodes-per-voxel", 4, 1, 64));
-  return solve_and_write("shape-functions", a,
+  const int picture_node = int(a.integer("--picture-node", 0, 0, 1 << 30));
+  auto check = [&](const job& j) {
+    if (std::size_t(picture_node) >= j.seeds.size())
+      throw usage_error("--picture-node " + std::to_string(picture_node) + ": must be less than the number of nodes (" +
+                        std::to_string(j.seeds.size()) + ")");
+  };
+  return solve_and_write("shape-functions", a, check,
                          [&](const job& j, const gv::diagram<float, 3>& d, gvcli::output_dir& out,
                              gvcli::progress_bar& bar) {
                            bar.update(method_name(method), 0.0);
@@ -316,7 +364,7 @@ int cmd_shape(const std::vector<std::string>& args) {
                            opt.progress = [&](double f) { bar.set_fraction(f); return true; };
                            const auto w = run_shape(j.backend, j.spec(), d, opt);
                            bar.update("writing");
-                           write_shape(out.subdir("."), w, d, 0);
+                           write_shape(out.subdir("."), w, d, picture_node, j.pictures(), method_name(method));
                          });
 }
 
@@ -345,6 +393,39 @@ std::vector<gv::coord<3>> mid_slice_seeds(const gv::image<float, 3>& field, int 
   return gv::phantom::spread_seeds(plane, count);
 }
 
+/// The same nodes on a coarser grid of the same object: each moves to the voxel whose centre is
+/// nearest to its world position (or, if that voxel is outside the object, to the nearest inside
+/// voxel of its slice), so node i keeps its place, its index and its colour in every picture.
+std::vector<gv::coord<3>> resample_seeds(const gv::grid<3>& from, const std::vector<gv::coord<3>>& seeds,
+                                         const gv::image<float, 3>& field) {
+  const auto& g = field.geometry();
+  std::vector<gv::coord<3>> out;
+  std::set<index_t> used;
+  for (std::size_t i = 0; i < seeds.size(); ++i) {
+    const auto c = g.nearest_voxel(from.world(seeds[i]));
+    index_t best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (index_t dy = -2; dy <= 2; ++dy)
+      for (index_t dx = -2; dx <= 2; ++dx) {
+        const gv::coord<3> q{c[0] + dx, c[1] + dy, c[2]};
+        if (!g.contains(q) || !(field[g.index(q)] > 0) || used.count(g.index(q))) continue;
+        const double d = double(dx * dx + dy * dy);
+        if (d < best_d) best_d = d, best = g.index(q);
+      }
+    if (best < 0) throw std::runtime_error("demo: node " + std::to_string(i) + " has no place on the coarse grid");
+    used.insert(best);
+    out.push_back(g.coords(best));
+  }
+  return out;
+}
+
+void write_seeds(const std::string& path, const std::vector<gv::coord<3>>& seeds, const std::string& volume) {
+  std::ofstream s(path);
+  s << "# i,j,k voxel indices of the demo's nodes (x, y, z) in " << volume << "; line n is node n - 1\n";
+  for (const auto& c : seeds) s << c[0] << "," << c[1] << "," << c[2] << "\n";
+  if (!s) throw gio::io_error(path, "write error");
+}
+
 int cmd_demo(const std::vector<std::string>& args) {
   gvcli::arguments a(args, {"--out", "--backend"}, {});
   const std::string dir = a.get("--out", "demo-out");
@@ -358,38 +439,37 @@ int cmd_demo(const std::vector<std::string>& args) {
   // Sibson inserts every voxel as a query and searches its new cell (cost ~ voxels^2 / nodes; the
   // steak is not translation invariant, so no shortcut applies): on CPU backends it runs on the same
   // steak at half the resolution (same physical size, 1/8 of the voxels, 1/64 of the work), on a GPU
-  // backend at full resolution.
+  // backend at full resolution. The nodes are the same ones, moved to the coarse grid.
   const bool full_sibson = backend == "cuda";
   const gv::grid<3> gh = full_sibson ? g : gv::grid<3>({64, 48, 16}, {2.0, 2.0, 2.0});
   const auto field_h = gv::phantom::steak(gh);
-  const auto seeds_h = mid_slice_seeds(field_h, 12);
+  const auto seeds_h = full_sibson ? seeds : resample_seeds(g, seeds, field_h);
   gvcli::output_dir out(dir);
   gio::write_metaimage(out.file("stiffness.mhd"), field);
-  {
-    std::ofstream s(out.file("seeds.csv"));
-    s << "# i,j,k voxel indices of the demo's nodes (x, y, z) in stiffness.mhd\n";
-    for (const auto& c : seeds) s << c[0] << "," << c[1] << "," << c[2] << "\n";
-    if (!s) throw gio::io_error(out.file("seeds.csv"), "write error");
-  }
+  write_seeds(out.file("seeds.csv"), seeds, "stiffness.mhd");
   std::printf("demo: steak phantom %lldx%lldx%lld (Sibson: %lldx%lldx%lld), %zu nodes, backend %s\n",
               (long long)g.extent(0), (long long)g.extent(1), (long long)g.extent(2), (long long)gh.extent(0),
               (long long)gh.extent(1), (long long)gh.extent(2), seeds.size(), backend.c_str());
   std::fflush(stdout);
   const gvcli::problem_spec p{field, seeds, "min_stiffness", 26};
+  const picture_context pc{"min_stiffness", "MM", 26}, pcu{"uniform", "MM", 26};
   bar.update("voronoi");
   auto t0 = bar.seconds();
   const auto d = run_voronoi(backend, p);
   std::printf("  voronoi          %7.2f s\n", bar.seconds() - t0);
-  write_voronoi(out, d, field);
+  write_voronoi(out, d, field, pc);
   // the same seeds under the uniform metric, to show what the stiffness changes
   const auto du = run_voronoi(backend, {field, seeds, "uniform", 26});
-  const auto uni = gio::label_montage(du.label, du.seeds, &field);
-  gio::write_png(out.file("labels_uniform.png"), uni);
+  gio::write_png(out.file("labels_uniform.png"), gio::label_picture(du.label, du.seeds, &field, pcu.options("VORONOI CELLS")));
   // side by side: the XY mid-slice under the uniform metric (left) and under min_stiffness (right)
-  const auto stiff = gio::label_montage(d.label, d.seeds, &field);
-  const index_t panel_w = gio::first_panel_width(g, uni);
+  auto left = pcu.options("UNIFORM METRIC: CELLS IGNORE THE BONE"), right = pc.options("MIN_STIFFNESS: CELLS FOLLOW IT");
+  left.title = {left.title[0].substr(0, left.title[0].find(" - "))};
+  right.title = {right.title[0].substr(0, right.title[0].find(" - "))};
+  left.xy_only = right.xy_only = true;
+  left.legend = false;
   gio::write_png(out.file("labels_compare.png"),
-                 gio::hstack(gio::crop(uni, 0, 0, panel_w, uni.height), gio::crop(stiff, 0, 0, panel_w, stiff.height)));
+                 gio::hstack(gio::label_picture(du.label, du.seeds, &field, left),
+                             gio::label_picture(d.label, d.seeds, &field, right), gio::picture_background));
   auto shape = [&](const gvcli::problem_spec& prob, const gv::diagram<float, 3>& diag, gv::shape_method method) {
     bar.update(method_name(method), 0.0);
     t0 = bar.seconds();
@@ -402,11 +482,12 @@ int cmd_demo(const std::vector<std::string>& args) {
                 (long long)prob.field.geometry().size());
     std::fflush(stdout);
     const std::string sub = out.subdir(method_name(method));
-    write_shape(sub, w, diag, 0);
+    write_shape(sub, w, diag, 0, pc, method_name(method));
     if (method == gv::shape_method::sibson) {
       gio::write_metaimage(sub + "/stiffness.mhd", prob.field);
+      write_seeds(sub + "/seeds.csv", prob.seeds, "sibson/stiffness.mhd");
       gio::write_metaimage(sub + "/label.mhd", diag.label);
-      gio::write_png(sub + "/labels.png", gio::label_montage(diag.label, diag.seeds, &prob.field));
+      gio::write_png(sub + "/labels.png", gio::label_picture(diag.label, diag.seeds, &prob.field, pc.options("VORONOI CELLS")));
     }
   };
   shape(p, d, gv::shape_method::distance_ratio);

@@ -1,7 +1,8 @@
 #pragma once
 /// @file io/read.hpp
 /// @brief read_volume(): any supported volume file by its extension (.mhd, .mha, .npy, .pgm, .ppm,
-///        .pnm), and io/read.hpp includes every reader and writer of geovoronoi::io except png.hpp.
+///        .pnm), and io/read.hpp includes every reader and writer of geovoronoi::io except the pictures
+///        (rgb_image.hpp, png.hpp, picture.hpp).
 
 #include <geovoronoi/io/common.hpp>
 #include <geovoronoi/io/metaimage.hpp>
