@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <stdexcept>
+#include <vector>
 
 namespace {
 namespace gv = geovoronoi;
@@ -134,6 +136,81 @@ TEST_CASE("phantom: random_seeds returns distinct in-domain voxels, deterministi
   auto tiny = ph::constant(gv::grid<2>({3, 2}));
   tiny[0] = -1.0f;
   check_seed_list(tiny, ph::random_seeds(tiny, 9, 7), 5);
+}
+
+TEST_CASE("phantom: mri_like_grid has the pelvis MRI's proportions and anisotropic spacing") {
+  const auto g = ph::mri_like_grid();
+  CHECK(g.extent(0) == 221);
+  CHECK(g.extent(1) == 271);
+  CHECK(g.extent(2) == 69);
+  CHECK(g.spacing(0) == 0.9);
+  CHECK(g.spacing(1) == 0.9);
+  CHECK(g.spacing(2) == 2.5);
+  const auto h = ph::mri_like_grid(64);
+  CHECK(h.extent(0) == 64);
+  CHECK(h.extent(1) == 78);  // 64 * 271 / 221 = 78.48, rounded
+  CHECK(h.extent(2) == 20);
+  CHECK(ph::mri_like_grid(0).size() == 1);
+}
+
+TEST_CASE("phantom: mri_like is a masked, noisy body whose values span three decades, deterministically") {
+  const auto g = ph::mri_like_grid(64);
+  const auto f = ph::mri_like(g);
+  REQUIRE(f.geometry() == g);
+  std::vector<float> in;
+  for (float x : f) {
+    REQUIRE(std::isfinite(x));
+    REQUIRE(x >= 0.0f);
+    if (x > 0.0f) in.push_back(x);
+  }
+  const double inside = double(in.size()) / double(g.size());
+  INFO("inside fraction " << inside);
+  CHECK(inside > 0.3);  // an irregular body with a masked background around it
+  CHECK(inside < 0.7);
+  std::sort(in.begin(), in.end());
+  const float lo = in.front(), hi = in.back(), median = in[in.size() / 2];
+  INFO("min " << lo << " median " << median << " max " << hi);
+  CHECK(hi / lo > 1000.0f);  // several decades: gas and cortical bone against fat and fluid
+  CHECK(median > 100.0f);    // the bulk is soft tissue
+  CHECK(median < 700.0f);
+  CHECK(in[in.size() / 100] < 20.0f);  // dark tissues are not a handful of voxels
+  // noisy: almost no two neighbouring inside voxels are equal, and many values are distinct
+  gv::index_t equal = 0, pairs = 0;
+  for (gv::index_t v = 0; v + 1 < g.size(); ++v)
+    if (f[v] > 0 && f[v + 1] > 0) ++pairs, equal += f[v] == f[v + 1];
+  CHECK(pairs > 1000);
+  CHECK(double(equal) < 0.01 * double(pairs));
+  std::set<float> distinct(in.begin(), in.end());
+  CHECK(distinct.size() > in.size() / 2);
+  // the box's corners are background, the centre is inside
+  CHECK(f({0, 0, 0}) == 0.0f);
+  CHECK(f({63, 77, 19}) == 0.0f);
+  CHECK(f({32, 39, 10}) > 0.0f);
+  // deterministic; the salt changes the noise, not the body
+  const auto again = ph::mri_like(g);
+  CHECK(std::equal(f.begin(), f.end(), again.begin()));
+  const auto other = ph::mri_like(g, 99);
+  gv::index_t differ = 0;
+  for (gv::index_t v = 0; v < g.size(); ++v) {
+    CHECK((f[v] > 0) == (other[v] > 0));
+    differ += f[v] != other[v];
+  }
+  CHECK(differ > gv::index_t(in.size() / 2));
+  // without noise a region is smooth (only the bias field varies); with it, neighbours differ
+  const auto clean = ph::mri_like(g, 17, 0.0);
+  auto close_pairs = [&](const gv::image<float, 3>& img) {
+    gv::index_t close = 0, all = 0;
+    for (gv::index_t v = 0; v + 1 < g.size(); ++v)
+      if (img[v] > 0 && img[v + 1] > 0) {
+        ++all;
+        close += std::abs(img[v] - img[v + 1]) < 0.02f * img[v];
+      }
+    return double(close) / double(all);
+  };
+  CHECK(close_pairs(clean) > 0.75);  // the rest are tissue boundaries
+  CHECK(close_pairs(f) < 0.25);
+  CHECK_THROWS_AS(ph::mri_like(g, 1, -0.1), std::invalid_argument);
+  CHECK_THROWS_AS(ph::mri_like(g, 1, 0.5), std::invalid_argument);
 }
 
 }  // namespace

@@ -48,6 +48,8 @@ GEOVORONOI_BENCH_REGISTER(register_thrust_omp_cases) {
   static geovoronoi::thrust::stats st;
   gb::register_voronoi_cases("thrust_omp", geovoronoi::thrust::par_on(::thrust::omp::par).with_stats(&st), sizes,
                              seed_counts, conns, gb::field_names(), false, stats_hooks(&st));
+  gb::register_voronoi_cases("thrust_omp", geovoronoi::thrust::par_on(::thrust::omp::par).with_stats(&st), {221},
+                             {20}, {26}, {"mri"}, false, stats_hooks(&st));
 }
 #endif
 
@@ -56,6 +58,8 @@ GEOVORONOI_BENCH_REGISTER(register_thrust_tbb_cases) {
   static geovoronoi::thrust::stats st;
   gb::register_voronoi_cases("thrust_tbb", geovoronoi::thrust::par_on(::thrust::tbb::par).with_stats(&st), sizes,
                              seed_counts, conns, gb::field_names(), false, stats_hooks(&st));
+  gb::register_voronoi_cases("thrust_tbb", geovoronoi::thrust::par_on(::thrust::tbb::par).with_stats(&st), {221},
+                             {20}, {26}, {"mri"}, false, stats_hooks(&st));
 }
 #endif
 
@@ -82,6 +86,8 @@ GEOVORONOI_BENCH_REGISTER(register_thrust_cuda_cases) {
   };
   gb::register_solver_cases("thrust_cuda", solve, sizes, seed_counts, conns, gb::field_names(), true,
                             stats_hooks(&st));
+  gb::register_solver_cases("thrust_cuda", solve, std::vector<int>{221}, std::vector<int>{20}, std::vector<int>{26},
+                            std::vector<std::string>{"mri"}, true, stats_hooks(&st));
 }
 #endif
 

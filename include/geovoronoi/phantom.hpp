@@ -1,7 +1,8 @@
 #pragma once
 /// @file phantom.hpp
 /// @brief Procedural stiffness volumes used by the benchmarks, the tests and the demo: constant,
-///        gradient (1 -> 10 along x) and a T-bone-steak phantom (meat, fat, bone, background).
+///        gradient (1 -> 10 along x), a T-bone-steak phantom (meat, fat, bone, background) and a
+///        noisy MRI-like pelvis (mri_like: tissues over three decades of values, masked background).
 
 #include <geovoronoi/grid.hpp>
 #include <geovoronoi/image.hpp>
@@ -9,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 namespace geovoronoi::phantom {
@@ -68,6 +70,105 @@ inline image<float, 3> steak(const grid<3>& g, steak_moduli m = {}) {
         const double w = nz > 1 ? 2.0 * double(z) / double(nz - 1) - 1.0 : 0.0;
         const int t = steak_tissue(u, v, w);
         f({x, y, z}) = t == 0 ? 0.0f : t == 1 ? m.meat : t == 2 ? m.fat : m.bone;
+      }
+  return f;
+}
+
+/// Extents and spacing of the MRI-like phantom: SOFA's pelvis MRI is 221 x 271 x 69 voxels of about
+/// 0.9 x 0.9 x 2.5 mm; @p nx scales the grid (y and z follow the pelvis's proportions).
+inline grid<3> mri_like_grid(index_t nx = 221) {
+  const index_t n = std::max<index_t>(nx, 1);
+  const index_t ny = std::max<index_t>(1, (n * 271 + 110) / 221), nz = std::max<index_t>(1, (n * 69 + 110) / 221);
+  return grid<3>({n, ny, nz}, {0.9, 0.9, 2.5});
+}
+
+/// Mean intensities of the MRI-like phantom's tissues (arbitrary units, used as stiffness).
+struct mri_intensities {
+  float fat = 900.0f;     ///< subcutaneous rim and intermuscular streaks
+  float muscle = 250.0f;  ///< the bulk of the body
+  float fluid = 1500.0f;  ///< the bladder
+  float marrow = 600.0f;  ///< inside the hip bones and the sacrum
+  float cortex = 12.0f;   ///< cortical bone shells (dark in MRI)
+  float gas = 2.0f;       ///< bowel gas pockets
+  float skin = 6.0f;      ///< the body's ragged partial-volume edge
+};
+
+namespace detail {
+/// Deterministic per-voxel hash in [0, 1) (splitmix64), independent of the platform's <random>.
+inline double unit_hash(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  x ^= x >> 31;
+  return double(x >> 11) * (1.0 / 9007199254740992.0);
+}
+}  // namespace detail
+
+/// Tissue of a point of the MRI-like pelvis, in normalised coordinates u (left-right), v
+/// (front-back), w (feet-head), each in [-1, 1]: 0 outside, 1 skin edge, 2 fat, 3 muscle,
+/// 4 fluid, 5 marrow, 6 cortical bone, 7 gas.
+inline int mri_tissue(double u, double v, double w) {
+  const double a = std::atan2(v, u);
+  const double r = std::sqrt(u * u + (v / 0.82) * (v / 0.82));
+  const double edge = 0.88 + 0.05 * std::sin(2 * a + 1.1 * w) + 0.03 * std::cos(5 * a - 0.5) - 0.05 * w * w +
+                      0.015 * std::sin(13 * a + 3 * w);
+  if (r > edge) return 0;
+  if (r > edge - 0.025) return 1;
+  if (r > edge - 0.13 - 0.03 * std::sin(6 * a + w)) return 2;
+  // two hip bones (marrow inside a cortical shell) and the sacrum behind
+  for (int side = -1; side <= 1; side += 2) {
+    const double cu = u - side * (0.48 + 0.04 * w), cv = v - 0.02 - 0.05 * w;
+    const double rho = std::sqrt(cu * cu + 1.3 * cv * cv);
+    const double shell = 0.17 + 0.03 * std::sin(3 * std::atan2(cv, cu) + w);
+    if (rho < shell + 0.028) return rho > shell - 0.01 ? 6 : 5;
+  }
+  {
+    const double su = u / 0.22, sv = (v - 0.5 + 0.08 * w) / 0.12;
+    const double s = su * su + sv * sv;
+    if (s < 1.0) return s > 0.6 ? 6 : 5;
+  }
+  // bladder in front, gas pockets in the bowel above it
+  if (u * u / 0.04 + (v + 0.4) * (v + 0.4) / 0.02 + w * w / 0.5 < 1.0) return 4;
+  for (int k = 0; k < 4; ++k) {
+    const double gu = u - (-0.2 + 0.14 * k), gv = v + 0.05 - 0.07 * (k % 2), gw = w - 0.35 + 0.15 * k;
+    if (gu * gu + gv * gv + 0.2 * gw * gw < 0.0025 + 0.001 * k) return 7;
+  }
+  // muscle, streaked with fat
+  const double streak = std::sin(11 * u + 3 * std::sin(4 * v)) * std::sin(8 * v - 3 * u + 1.7 * w);
+  return streak > 0.9 ? 2 : 3;
+}
+
+/**
+ * A real-data-like stiffness volume: a noisy MRI of a pelvis-shaped body. Tissue regions (fat,
+ * muscle, bladder fluid, bone marrow, dark cortical bone shells, bowel gas, a dim ragged skin
+ * edge) span about three decades of values (1-2000), a smooth bias field (+-20 %) and per-voxel
+ * noise (+-@p noise, roughly Gaussian) make every region heterogeneous, and everything outside the
+ * body is 0 (masked). Deterministic in @p salt. Use with mri_like_grid()'s anisotropic spacing.
+ * @throws std::invalid_argument if @p noise is outside [0, 0.5).
+ */
+inline image<float, 3> mri_like(const grid<3>& g, std::uint64_t salt = 17, double noise = 0.15,
+                                mri_intensities m = {}) {
+  if (!(noise >= 0.0 && noise < 0.5)) throw std::invalid_argument("phantom::mri_like: noise must be in [0, 0.5)");
+  image<float, 3> f(g, 0.0f);
+  const index_t nx = g.extent(0), ny = g.extent(1), nz = g.extent(2);
+  const float level[8] = {0.0f, m.skin, m.fat, m.muscle, m.fluid, m.marrow, m.cortex, m.gas};
+  const std::uint64_t base = salt * 0xD1B54A32D192ED03ull;
+  for (index_t z = 0; z < nz; ++z)
+    for (index_t y = 0; y < ny; ++y)
+      for (index_t x = 0; x < nx; ++x) {
+        const double u = nx > 1 ? 2.0 * double(x) / double(nx - 1) - 1.0 : 0.0;
+        const double v = ny > 1 ? 2.0 * double(y) / double(ny - 1) - 1.0 : 0.0;
+        const double w = nz > 1 ? 2.0 * double(z) / double(nz - 1) - 1.0 : 0.0;
+        const int t = mri_tissue(u, v, w);
+        if (t == 0) continue;
+        const index_t idx = g.index({x, y, z});
+        const std::uint64_t h = base + 4 * std::uint64_t(idx);
+        // sum of four uniforms: mean 2, sd about 0.58; scaled to unit sd
+        const double gauss = (detail::unit_hash(h) + detail::unit_hash(h + 1) + detail::unit_hash(h + 2) +
+                              detail::unit_hash(h + 3) - 2.0) * 1.7320508;
+        const double bias = 1.0 + 0.2 * std::sin(1.7 * u + 0.9) * std::cos(1.3 * v - 0.4 * w);
+        const double value = double(level[t]) * bias * std::max(0.2, 1.0 + noise * gauss);
+        f[idx] = float(std::max(value, 0.5));
       }
   return f;
 }
