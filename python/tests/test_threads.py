@@ -1,0 +1,116 @@
+"""The GIL is released during solves, progress callbacks work, Ctrl-C and callback exceptions cancel."""
+
+import os
+import signal
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import geovoronoi as gv
+
+
+def big_problem(n=80):
+    rng = np.random.default_rng(3)
+    field = rng.uniform(1.0, 10.0, (n, n, n)).astype(np.float32)
+    seeds = rng.integers(0, n, (10, 3))
+    return field, np.unique(seeds, axis=0)
+
+
+def long_shape_problem():
+    rng = np.random.default_rng(5)
+    field = rng.uniform(1.0, 10.0, (20, 24, 24)).astype(np.float32)
+    seeds = np.unique(rng.integers(0, 20, (8, 3)), axis=0)
+    return field, seeds
+
+
+def test_gil_is_released_during_a_solve():
+    """While a solve runs in another thread, this thread keeps running Python code: the longest
+    pause it sees is a small part of the solve (with the GIL held it would be the whole solve)."""
+    field, seeds = big_problem()
+    t0 = time.perf_counter()
+    gv.voronoi(field, seeds, backend="seq")
+    alone = time.perf_counter() - t0
+    worker = threading.Thread(target=gv.voronoi, args=(field, seeds), kwargs=dict(backend="seq"))
+    ticks = []
+    worker.start()
+    while worker.is_alive():
+        ticks.append(time.perf_counter())
+        time.sleep(0.001)
+    worker.join()
+    gaps = np.diff(ticks) if len(ticks) > 1 else np.array([alone])
+    assert len(ticks) > 10, f"this thread ran {len(ticks)} times during a {alone:.2f} s solve"
+    assert gaps.max() < 0.5 * alone, f"longest pause {gaps.max():.3f} s during a {alone:.3f} s solve"
+
+
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="needs two cores")
+def test_two_threads_solve_concurrently():
+    """Two solves in two threads take less wall time than one after the other (best of 3 tries, and a
+    generous margin: the machine is shared). Process CPU time over wall time shows the overlap too."""
+    field, seeds = big_problem()
+
+    def one():
+        gv.voronoi(field, seeds, backend="seq")
+
+    best = np.inf
+    for _ in range(3):
+        t0 = time.perf_counter()
+        one()
+        one()
+        serial = time.perf_counter() - t0
+        threads = [threading.Thread(target=one) for _ in range(2)]
+        t0, c0 = time.perf_counter(), time.process_time()
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        best = min(best, wall / serial)
+        if best < 0.85 and cpu / wall > 1.15:
+            return
+    if os.getloadavg()[0] > (os.cpu_count() or 1) - 0.5:
+        pytest.skip(f"machine too busy to measure (load {os.getloadavg()[0]:.1f}); best ratio {best:.2f}")
+    pytest.fail(f"two threads took {best:.2f} of the serial time (expected < 0.85)")
+
+
+def test_progress_with_a_tqdm_like_update():
+    field, seeds = long_shape_problem()
+    total = []
+    gv.shape_functions(field, seeds, method="distance_ratio", backend="seq", progress=total.append)
+    assert len(total) >= 2 and all(x > 0 for x in total)
+    assert sum(total) == pytest.approx(100.0)
+
+
+def test_exception_in_progress_cancels_and_propagates():
+    field, seeds = long_shape_problem()
+    calls = []
+
+    def progress(x):
+        calls.append(x)
+        if len(calls) == 2:
+            raise RuntimeError("stop here")
+
+    with pytest.raises(RuntimeError, match="stop here"):
+        gv.shape_functions(field, seeds, method="sibson", backend="seq", batch_size=64, progress=progress)
+    assert len(calls) == 2
+    assert sum(calls) < 100.0
+    # the package still works afterwards
+    assert gv.voronoi(field, seeds, backend="seq").label.max() == len(seeds) - 1
+
+
+@pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals need the main thread")
+def test_ctrl_c_cancels_a_long_computation():
+    field, seeds = long_shape_problem()
+    seen = []
+    timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
+    t0 = time.perf_counter()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            gv.shape_functions(field, seeds, method="sibson", backend="seq", batch_size=32, progress=seen.append)
+    finally:
+        timer.cancel()
+    assert sum(seen) < 100.0, "the computation ran to the end"
+    assert time.perf_counter() - t0 < 60
+    assert gv.voronoi(field, seeds, backend="seq").distance.dtype == np.float32

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Builds the Python package and runs its pytest suite (python/tests). Meant to be called by the
+# README's test command (scripts/test.sh), after the C++ build: the CLI-parity tests use the C++ tool
+# from build/ when it is there (GEOVORONOI_CLI=path overrides), and are skipped, saying why, otherwise.
+#
+# Python: Debian's /usr/bin/python3 with Debian's NumPy, SciPy, scikit-image and pytest. The package
+# is installed into a virtual environment over those (build-python/venv, --system-site-packages), not
+# into the system interpreter (Debian marks it externally managed). The build dependencies are the
+# versions pinned in pyproject.toml, installed from PyPI into the venv; the build runs without pip's
+# build isolation in a kept folder (build-python/wheel), so a second run only recompiles what changed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+source scripts/lib/packages.sh
+ensure_packages g++ cmake libeigen3-dev zlib1g-dev python3-dev python3-pip python3-venv \
+                python3-numpy python3-scipy python3-skimage python3-pytest
+
+py=/usr/bin/python3
+venv=build-python/venv
+start=$SECONDS
+if [ ! -x "$venv/bin/python" ]; then
+  "$py" -m venv --system-site-packages "$venv"
+fi
+# the build requirements exactly as pinned in pyproject.toml's [build-system]
+reqs=$("$venv/bin/python" -c 'import tomllib; print(" ".join(tomllib.load(open("pyproject.toml","rb"))["build-system"]["requires"]))')
+"$venv/bin/python" -m pip install -q --disable-pip-version-check $reqs
+echo "== building the Python package (pip install .)"
+"$venv/bin/python" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps \
+  --config-settings=build-dir=build-python/wheel --config-settings=cmake.define.GEOVORONOI_PYTHON_WERROR=ON .
+
+if [ -z "${GEOVORONOI_CLI:-}" ]; then
+  for c in build/tools/geovoronoi/geovoronoi build/tools/geovoronoi build/examples/geovoronoi; do
+    if [ -f "$c" ] && [ -x "$c" ]; then export GEOVORONOI_CLI="$PWD/$c"; break; fi
+  done
+fi
+echo "== Python tests (pytest; C++ tool: ${GEOVORONOI_CLI:-none found, its parity tests will be skipped})"
+rc=0
+(cd python/tests && "../../$venv/bin/python" -m pytest -q -p no:cacheprovider .) || rc=$?
+if [ "$rc" -eq 5 ]; then
+  echo "pytest collected no tests: that is a failure"
+  exit 1
+fi
+if [ "$rc" -ne 0 ]; then exit "$rc"; fi
+echo "== Python package built and tested in $((SECONDS - start)) s"
