@@ -49,20 +49,15 @@ if(NOT _gv_cuda_mode STREQUAL "OFF")
 
     install(DIRECTORY ${CMAKE_CURRENT_LIST_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
     install(TARGETS geovoronoi_cuda EXPORT geovoronoi-cuda-targets)
-    install(EXPORT geovoronoi-cuda-targets NAMESPACE geovoronoi::
-            DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/geovoronoi)
-    # Included by the package config (through geovoronoi-backends.cmake) when present: the target
-    # exists for consumers that enabled CUDA and have the toolkit.
-    file(WRITE ${PROJECT_BINARY_DIR}/geovoronoi-cuda.cmake
-"get_property(_gv_langs GLOBAL PROPERTY ENABLED_LANGUAGES)
-if(\"CUDA\" IN_LIST _gv_langs AND NOT TARGET geovoronoi::cuda)
-  find_package(CUDAToolkit QUIET)
-  if(CUDAToolkit_FOUND)
-    include(\"\${CMAKE_CURRENT_LIST_DIR}/geovoronoi-cuda-targets.cmake\")
-  endif()
-endif()
-")
-    install(FILES ${PROJECT_BINARY_DIR}/geovoronoi-cuda.cmake DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/geovoronoi)
+    # In the package: loaded when the consumer's project has enabled CUDA and finds the toolkit.
+    geovoronoi_package_backend(geovoronoi-cuda-targets
+      "get_property(_gv_langs GLOBAL PROPERTY ENABLED_LANGUAGES)"
+      "if(\"CUDA\" IN_LIST _gv_langs)"
+      "  find_package(CUDAToolkit QUIET)"
+      "endif()"
+      "if(NOT \"CUDA\" IN_LIST _gv_langs OR NOT TARGET CUDA::cudart_static)"
+      "  set(_gv_ok FALSE)"
+      "endif()")
   elseif(_gv_cuda_mode STREQUAL "ON")
     message(FATAL_ERROR "geovoronoi: GEOVORONOI_CUDA=ON but no working CUDA compiler (nvcc) or CUDA toolkit was "
                         "found; install the CUDA toolkit, set CMAKE_CUDA_COMPILER, or use GEOVORONOI_CUDA=AUTO|OFF")

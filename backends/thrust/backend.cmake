@@ -11,16 +11,7 @@
 
 string(TOUPPER "${GEOVORONOI_THRUST}" _gv_thrust_mode)
 if(NOT _gv_thrust_mode STREQUAL "OFF")
-  find_package(CUDAToolkit QUIET)
-  set(_gv_thrust_hints)
-  if(CUDAToolkit_INCLUDE_DIRS)
-    foreach(d ${CUDAToolkit_INCLUDE_DIRS})
-      list(APPEND _gv_thrust_hints ${d}/cccl ${d})
-    endforeach()
-  endif()
-  list(APPEND _gv_thrust_hints /usr/local/cuda/include/cccl /usr/local/cuda/include)
-  find_path(GEOVORONOI_THRUST_INCLUDE_DIR thrust/version.h HINTS ${_gv_thrust_hints}
-            DOC "Directory holding thrust/version.h (and cub/, cuda/ for CCCL)")
+  include(${PROJECT_SOURCE_DIR}/cmake/GeovoronoiFindThrust.cmake)
   if(GEOVORONOI_THRUST_INCLUDE_DIR)
     set(GEOVORONOI_HAVE_THRUST ON)
   elseif(_gv_thrust_mode STREQUAL "ON")
@@ -36,13 +27,16 @@ if(GEOVORONOI_HAVE_THRUST)
   target_include_directories(geovoronoi_thrust INTERFACE
     $<BUILD_INTERFACE:${CMAKE_CURRENT_LIST_DIR}/include>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
-  target_include_directories(geovoronoi_thrust SYSTEM INTERFACE ${GEOVORONOI_THRUST_INCLUDE_DIR})
-  target_link_libraries(geovoronoi_thrust INTERFACE geovoronoi::geovoronoi)
+  # Thrust's own headers: this machine's path in the build tree; in the installed package the target
+  # geovoronoi::thrust_headers, which geovoronoi-backends.cmake creates from what it finds there.
+  target_include_directories(geovoronoi_thrust SYSTEM INTERFACE $<BUILD_INTERFACE:${GEOVORONOI_THRUST_INCLUDE_DIR}>)
+  target_link_libraries(geovoronoi_thrust INTERFACE geovoronoi $<INSTALL_INTERFACE:geovoronoi::thrust_headers>)
   # device lambdas are not used; constexpr std:: helpers (numeric_limits) are called from device code
   target_compile_options(geovoronoi_thrust INTERFACE $<$<COMPILE_LANGUAGE:CUDA>:--expt-relaxed-constexpr>)
 
   add_library(geovoronoi_thrust_cpp INTERFACE)
   add_library(geovoronoi::thrust_cpp ALIAS geovoronoi_thrust_cpp)
+  set_target_properties(geovoronoi_thrust_cpp PROPERTIES EXPORT_NAME thrust_cpp)
   target_link_libraries(geovoronoi_thrust_cpp INTERFACE geovoronoi_thrust)
   target_compile_definitions(geovoronoi_thrust_cpp INTERFACE THRUST_DEVICE_SYSTEM=THRUST_DEVICE_SYSTEM_CPP)
 
@@ -50,6 +44,7 @@ if(GEOVORONOI_HAVE_THRUST)
   if(OpenMP_CXX_FOUND)
     add_library(geovoronoi_thrust_omp INTERFACE)
     add_library(geovoronoi::thrust_omp ALIAS geovoronoi_thrust_omp)
+    set_target_properties(geovoronoi_thrust_omp PROPERTIES EXPORT_NAME thrust_omp)
     target_link_libraries(geovoronoi_thrust_omp INTERFACE geovoronoi_thrust OpenMP::OpenMP_CXX)
     target_compile_definitions(geovoronoi_thrust_omp INTERFACE THRUST_DEVICE_SYSTEM=THRUST_DEVICE_SYSTEM_OMP)
   endif()
@@ -58,6 +53,7 @@ if(GEOVORONOI_HAVE_THRUST)
   if(TBB_FOUND)
     add_library(geovoronoi_thrust_tbb INTERFACE)
     add_library(geovoronoi::thrust_tbb ALIAS geovoronoi_thrust_tbb)
+    set_target_properties(geovoronoi_thrust_tbb PROPERTIES EXPORT_NAME thrust_tbb)
     target_link_libraries(geovoronoi_thrust_tbb INTERFACE geovoronoi_thrust TBB::tbb)
     target_compile_definitions(geovoronoi_thrust_tbb INTERFACE THRUST_DEVICE_SYSTEM=THRUST_DEVICE_SYSTEM_TBB)
   endif()
@@ -84,47 +80,50 @@ if(GEOVORONOI_HAVE_THRUST)
   if("CUDA" IN_LIST _gv_langs)
     add_library(geovoronoi_thrust_cuda INTERFACE)
     add_library(geovoronoi::thrust_cuda ALIAS geovoronoi_thrust_cuda)
+    set_target_properties(geovoronoi_thrust_cuda PROPERTIES EXPORT_NAME thrust_cuda)
     target_link_libraries(geovoronoi_thrust_cuda INTERFACE geovoronoi_thrust)
     target_compile_definitions(geovoronoi_thrust_cuda INTERFACE THRUST_DEVICE_SYSTEM=THRUST_DEVICE_SYSTEM_CUDA)
   endif()
 
-  # Install: the headers, geovoronoi::thrust in its own export set, and a script that the package
-  # config includes (geovoronoi-backends.cmake) re-creating the per-system targets on the consumer's
-  # side from what it finds there.
+  # Install: the headers, and one export set per group of targets with the same dependencies; the
+  # package loads each set only when the consumer's machine has those dependencies.
   install(DIRECTORY ${CMAKE_CURRENT_LIST_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-  install(TARGETS geovoronoi_thrust EXPORT geovoronoi-thrust-targets)
-  install(EXPORT geovoronoi-thrust-targets NAMESPACE geovoronoi::
-          DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/geovoronoi)
-  file(WRITE ${PROJECT_BINARY_DIR}/geovoronoi-backends.cmake [=[
-# geovoronoi's optional backends, included by geovoronoi-config.cmake.
-if(NOT TARGET geovoronoi::thrust)
-  include("${CMAKE_CURRENT_LIST_DIR}/geovoronoi-thrust-targets.cmake")
-  if(NOT TARGET geovoronoi::thrust_cpp)
-    add_library(geovoronoi::thrust_cpp INTERFACE IMPORTED)
-    set_target_properties(geovoronoi::thrust_cpp PROPERTIES INTERFACE_LINK_LIBRARIES geovoronoi::thrust
-      INTERFACE_COMPILE_DEFINITIONS THRUST_DEVICE_SYSTEM=THRUST_DEVICE_SYSTEM_CPP)
+  install(TARGETS geovoronoi_thrust geovoronoi_thrust_cpp EXPORT geovoronoi-thrust-targets)
+  geovoronoi_package_backend(geovoronoi-thrust-targets
+    "include(\"\${CMAKE_CURRENT_LIST_DIR}/GeovoronoiFindThrust.cmake\")"
+    "if(GEOVORONOI_THRUST_INCLUDE_DIR AND NOT TARGET geovoronoi::thrust_headers)"
+    "  add_library(geovoronoi::thrust_headers INTERFACE IMPORTED)"
+    "  set_target_properties(geovoronoi::thrust_headers PROPERTIES INTERFACE_INCLUDE_DIRECTORIES \"\${GEOVORONOI_THRUST_INCLUDE_DIR}\")"
+    "endif()"
+    "if(NOT TARGET geovoronoi::thrust_headers)"
+    "  set(_gv_ok FALSE)"
+    "endif()")
+  if(TARGET geovoronoi_thrust_omp)
+    install(TARGETS geovoronoi_thrust_omp EXPORT geovoronoi-thrust_omp-targets)
+    geovoronoi_package_backend(geovoronoi-thrust_omp-targets
+      "if(TARGET geovoronoi::thrust)"
+      "  find_package(OpenMP QUIET COMPONENTS CXX)"
+      "endif()"
+      "if(NOT TARGET geovoronoi::thrust OR NOT TARGET OpenMP::OpenMP_CXX)"
+      "  set(_gv_ok FALSE)"
+      "endif()")
   endif()
-  find_package(OpenMP QUIET COMPONENTS CXX)
-  if(OpenMP_CXX_FOUND AND NOT TARGET geovoronoi::thrust_omp)
-    add_library(geovoronoi::thrust_omp INTERFACE IMPORTED)
-    set_target_properties(geovoronoi::thrust_omp PROPERTIES
-      INTERFACE_LINK_LIBRARIES "geovoronoi::thrust;OpenMP::OpenMP_CXX"
-      INTERFACE_COMPILE_DEFINITIONS THRUST_DEVICE_SYSTEM=THRUST_DEVICE_SYSTEM_OMP)
+  if(TARGET geovoronoi_thrust_tbb)
+    install(TARGETS geovoronoi_thrust_tbb EXPORT geovoronoi-thrust_tbb-targets)
+    geovoronoi_package_backend(geovoronoi-thrust_tbb-targets
+      "if(TARGET geovoronoi::thrust)"
+      "  find_package(TBB QUIET CONFIG)"
+      "endif()"
+      "if(NOT TARGET geovoronoi::thrust OR NOT TARGET TBB::tbb)"
+      "  set(_gv_ok FALSE)"
+      "endif()")
   endif()
-  find_package(TBB QUIET CONFIG)
-  if(TBB_FOUND AND NOT TARGET geovoronoi::thrust_tbb)
-    add_library(geovoronoi::thrust_tbb INTERFACE IMPORTED)
-    set_target_properties(geovoronoi::thrust_tbb PROPERTIES
-      INTERFACE_LINK_LIBRARIES "geovoronoi::thrust;TBB::tbb"
-      INTERFACE_COMPILE_DEFINITIONS THRUST_DEVICE_SYSTEM=THRUST_DEVICE_SYSTEM_TBB)
+  if(TARGET geovoronoi_thrust_cuda)
+    install(TARGETS geovoronoi_thrust_cuda EXPORT geovoronoi-thrust_cuda-targets)
+    geovoronoi_package_backend(geovoronoi-thrust_cuda-targets
+      "get_property(_gv_langs GLOBAL PROPERTY ENABLED_LANGUAGES)"
+      "if(NOT TARGET geovoronoi::thrust OR NOT \"CUDA\" IN_LIST _gv_langs)"
+      "  set(_gv_ok FALSE)"
+      "endif()")
   endif()
-  get_property(_gv_langs GLOBAL PROPERTY ENABLED_LANGUAGES)
-  if("CUDA" IN_LIST _gv_langs AND NOT TARGET geovoronoi::thrust_cuda)
-    add_library(geovoronoi::thrust_cuda INTERFACE IMPORTED)
-    set_target_properties(geovoronoi::thrust_cuda PROPERTIES INTERFACE_LINK_LIBRARIES geovoronoi::thrust
-      INTERFACE_COMPILE_DEFINITIONS THRUST_DEVICE_SYSTEM=THRUST_DEVICE_SYSTEM_CUDA)
-  endif()
-endif()
-]=])
-  install(FILES ${PROJECT_BINARY_DIR}/geovoronoi-backends.cmake DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/geovoronoi)
 endif()

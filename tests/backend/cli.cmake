@@ -1,16 +1,7 @@
-# Hook of the I/O work (included by tests/backend/backends.cmake): links libpng into the I/O tests,
-# and adds the fuzz targets when the compiler
+# Hook of the I/O work (included by tests/backend/backends.cmake): the fuzz targets when the compiler
 # is clang (see scripts/test.sh, which builds them in build-fuzz/). zlib (compressed MetaImage data)
-# comes with geovoronoi::geovoronoi itself when the top-level CMakeLists.txt found it.
-find_package(PNG)
-if(TARGET test_io_png)
-  if(PNG_FOUND)
-    target_link_libraries(test_io_png PRIVATE PNG::PNG)
-  else()
-    target_compile_definitions(test_io_png PRIVATE GEOVORONOI_NO_PNG=1)
-  endif()
-endif()
-
+# and libpng (io::write_png) come with geovoronoi::geovoronoi itself when the top-level CMakeLists.txt
+# found them.
 # libFuzzer targets: only with clang and -DGEOVORONOI_FUZZ=ON (scripts/test.sh builds them apart).
 option(GEOVORONOI_FUZZ "Build the libFuzzer targets (clang only)" OFF)
 if(GEOVORONOI_FUZZ AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")

@@ -1,20 +1,32 @@
-// A user's program: compute a small diagram and check one value, exiting non-zero on failure.
-// With CONSUMER_EXPECT_ZLIB defined (the consumer's CMake found zlib, so geovoronoi's configure did
-// too), it also writes and reads back a compressed MetaImage without linking zlib itself: that part
-// comes with the geovoronoi::geovoronoi target.
+// A user's program on the core target: compute a small diagram and check it, exiting non-zero on
+// failure. CONSUMER_EXPECT_ZLIB / CONSUMER_EXPECT_PNG (1 when geovoronoi was configured with zlib /
+// libpng) say what geovoronoi::geovoronoi must bring by itself: compressed MetaImage support and a
+// working io::write_png, without this program finding or linking zlib or libpng.
 #include <geovoronoi.hpp>
 #include <geovoronoi/io/metaimage.hpp>
+#include <geovoronoi/io/png.hpp>
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include <unistd.h>
 
 #ifndef CONSUMER_EXPECT_ZLIB
-#define CONSUMER_EXPECT_ZLIB 0
+#error "CONSUMER_EXPECT_ZLIB must be defined to 0 or 1"
 #endif
+#ifndef CONSUMER_EXPECT_PNG
+#error "CONSUMER_EXPECT_PNG must be defined to 0 or 1"
+#endif
+
+namespace {
+std::string temp_file(const char* ext) {
+  return (std::filesystem::temp_directory_path() / ("geovoronoi-consumer-" + std::to_string(::getpid()) + ext))
+      .string();
+}
+}  // namespace
 
 int main() {
   namespace gv = geovoronoi;
@@ -32,8 +44,7 @@ int main() {
     ok = false;
   }
   if (zlib) {
-    const auto path = (std::filesystem::temp_directory_path() /
-                       ("geovoronoi-consumer-" + std::to_string(::getpid()) + ".mha")).string();
+    const auto path = temp_file(".mha");
     gv::io::metaimage_write_options z;
     z.compress = true;
     gv::io::write_metaimage(path, d.label, z);
@@ -43,5 +54,22 @@ int main() {
     std::printf("consumer: compressed MetaImage round trip %s\n", same ? "ok" : "WRONG");
     ok = ok && same;
   }
+
+  // write_png works exactly when libpng came with the target (else it throws io_error).
+  const auto png = temp_file(".png");
+  bool wrote = false;
+  try {
+    gv::io::write_png(png, gv::io::rgb_image(4, 3, {200, 100, 50}));
+    std::ifstream f(png, std::ios::binary);
+    char sig[8] = {};
+    f.read(sig, 8);
+    wrote = f.gcount() == 8 && std::string(sig + 1, 3) == "PNG";
+  } catch (const gv::io::io_error& e) {
+    std::printf("consumer: write_png: %s\n", e.what());
+  }
+  std::filesystem::remove(png);
+  std::printf("consumer: write_png %s (expected %s)\n", wrote ? "works" : "unavailable",
+              CONSUMER_EXPECT_PNG ? "to work" : "unavailable");
+  ok = ok && wrote == bool(CONSUMER_EXPECT_PNG);
   return ok ? 0 : 1;
 }

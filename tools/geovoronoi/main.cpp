@@ -511,6 +511,10 @@ int main(int argc, char** argv) {
     if (args.empty()) throw usage_error("missing command (voronoi, shape-functions, demo or backends; --help for usage)");
     const std::string cmd = args.front();
     args.erase(args.begin());
+    if (cmd == "--version" || cmd == "-V") {
+      std::printf("geovoronoi %s\n", GEOVORONOI_TOOL_VERSION);
+      return 0;
+    }
     if (cmd == "--help" || cmd == "-h" || cmd == "help") {
       std::fputs(usage_text, stdout);
       return 0;
