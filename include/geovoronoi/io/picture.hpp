@@ -87,7 +87,7 @@ struct picture_options {
   /// Draw the column on the right (colour bar, legend).
   bool legend = true;
   /// Pixels per unit of length; 0: automatic (the panels about 560 pixels on their longer side, a
-  /// voxel of the finest spacing between 1 and 12 pixels).
+  /// voxel of the finest spacing between 1 and 40 pixels).
   double pixels_per_unit = 0.0;
   /// Size in pixels of one dot of the font (a glyph is 5 x 7 dots).
   int text_scale = 2;
@@ -222,7 +222,7 @@ panel_layout<Dim> make_layout(const grid<Dim>& g, const picture_options& o) {
   double ppu = o.pixels_per_unit;
   if (!(ppu > 0)) {
     ppu = 560.0 / std::max(X + Z, Y + Z);
-    ppu = std::clamp(ppu, 1.0 / finest, 12.0 / finest);
+    ppu = std::clamp(ppu, 1.0 / finest, 40.0 / finest);
   }
   L.ppu = ppu;
   auto px = [&](index_t n, int axis) { return std::max<index_t>(1, index_t(std::llround(double(n) * g.spacing(axis) * ppu))); };
