@@ -129,10 +129,10 @@ TEST_CASE("picture: a 2D grid, a single-slice volume and xy_only give one panel"
   CHECK(gd::make_layout(geovoronoi::grid<3>({8, 4, 1}), o).views.size() == 1);
   o.xy_only = true;
   CHECK(gd::make_layout(geovoronoi::grid<3>({8, 4, 6}), o).views.size() == 1);
-  // tiny grids are drawn at most 12 pixels per voxel
+  // tiny grids are drawn at most 40 pixels per voxel
   const auto L = gd::make_layout(geovoronoi::grid<2>({8, 4}), o);
-  CHECK(L.width == 8 * 12);
-  CHECK(L.height == 4 * 12);
+  CHECK(L.width == 8 * 40);
+  CHECK(L.height == 4 * 40);
 }
 
 TEST_CASE("picture: the robust range clips outliers and says so") {

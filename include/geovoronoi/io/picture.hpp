@@ -87,7 +87,7 @@ struct picture_options {
   /// Draw the column on the right (colour bar, legend).
   bool legend = true;
   /// Pixels per unit of length; 0: automatic (the panels about 560 pixels on their longer side, a
-  /// voxel of the finest spacing between 1 and 12 pixels).
+  /// voxel of the finest spacing between 1 and 40 pixels).
   double pixels_per_unit = 0.0;
   /// Size in pixels of one dot of the font (a glyph is 5 x 7 dots).
   int text_scale = 2;
@@ -222,7 +222,7 @@ panel_layout<Dim> make_layout(const grid<Dim>& g, const picture_options& o) {
   double ppu = o.pixels_per_unit;
   if (!(ppu > 0)) {
     ppu = 560.0 / std::max(X + Z, Y + Z);
-    ppu = std::clamp(ppu, 1.0 / finest, 12.0 / finest);
+    ppu = std::clamp(ppu, 1.0 / finest, 40.0 / finest);
   }
   L.ppu = ppu;
   auto px = [&](index_t n, int axis) { return std::max<index_t>(1, index_t(std::llround(double(n) * g.spacing(axis) * ppu))); };
@@ -484,11 +484,11 @@ rgb_image assemble(const grid<Dim>& g, const picture_options& o, const column& c
   return pic;
 }
 
-inline void add_node_legend(column& col, bool three_d) {
+inline void add_node_legend(column& col, bool three_d, bool numbered) {
   using E = column::entry;
   col.entries.push_back({E::legend_entry, "", {legend_item::node_filled, node_colour(0), three_d ? "NODE IN SLICE (+-1)" : "NODE"}});
   if (three_d) col.entries.push_back({E::legend_entry, "", {legend_item::node_hollow, {}, "NODE OFF SLICE (NO NUMBER)"}});
-  col.entries.push_back({E::text_line, "(NUMBER = NODE INDEX)", {}});
+  if (numbered) col.entries.push_back({E::text_line, "(NUMBER = NODE INDEX)", {}});
 }
 
 }  // namespace detail
@@ -524,7 +524,8 @@ rgb_image label_picture(const image<label_t, Dim>& label, const std::vector<inde
     col.entries.push_back({E::legend_entry, "", {detail::legend_item::hatch, label_colour(0),
                                          "STIFF: >=" + detail::format_value(stiff_ratio) + "X MEDIAN"}});
   col.entries.push_back({E::legend_entry, "", {detail::legend_item::fill, picture_outside, "OUTSIDE/UNREACHED"}});
-  detail::add_node_legend(col, Dim == 3 && g.extent(Dim - 1) > 1 && !o.xy_only);
+  if (!nodes.empty())
+    detail::add_node_legend(col, Dim == 3 && g.extent(Dim - 1) > 1 && !o.xy_only, nodes.size() <= o.max_node_labels);
   col.entries.push_back({E::text_line, "CELL COLOUR = ITS NODE'S", {}});
   return detail::assemble(g, o, col, [&](rgb_image& pic, const std::vector<detail::view>& views) {
     detail::paint(pic, g, views, [&](index_t v, index_t px, index_t py) {
@@ -565,7 +566,8 @@ rgb_image heat_picture(const image<T, Dim>& values, const colour_range& range, c
     col.entries.push_back({E::legend_entry, "", {detail::legend_item::line, rgb{255, 255, 255},
                                          "ISO-LINE EVERY " + detail::format_value(span / levels)}});
   col.entries.push_back({E::legend_entry, "", {detail::legend_item::fill, picture_outside, "OUTSIDE/UNREACHED"}});
-  if (!nodes.empty()) detail::add_node_legend(col, Dim == 3 && g.extent(Dim - 1) > 1 && !o.xy_only);
+  if (!nodes.empty())
+    detail::add_node_legend(col, Dim == 3 && g.extent(Dim - 1) > 1 && !o.xy_only, nodes.size() <= o.max_node_labels);
   // the bar as tall as the panels leave room for, at least 100 pixels
   const auto L = detail::make_layout(g, o);
   const index_t rest = detail::column_size(col, std::max(1, o.text_scale))[1];

@@ -14,8 +14,8 @@ namespace geovoronoi::io {
 /// 8-bit RGB colour.
 struct rgb {
   unsigned char r = 0, g = 0, b = 0;
-  friend bool operator==(rgb a, rgb b) { return a.r == b.r && a.g == b.g && a.b == b.b; }
-  friend bool operator!=(rgb a, rgb b) { return !(a == b); }
+  friend bool operator==(rgb x, rgb y) { return x.r == y.r && x.g == y.g && x.b == y.b; }
+  friend bool operator!=(rgb x, rgb y) { return !(x == y); }
 };
 
 /// An 8-bit RGB picture, rows top to bottom.
