@@ -29,6 +29,9 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <cstdlib>
+
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -116,6 +119,22 @@ struct case_hooks {
 /// Iteration counts that keep the full matrix at a few minutes: solves of 256^3 take seconds.
 inline benchmark::IterationCount default_iterations(int n) { return n <= 64 ? 5 : n <= 128 ? 2 : 1; }
 
+/// Smoke mode (environment GEOVORONOI_BENCH_SMOKE set, as the ctest entries `smoke_bench_*` do): each
+/// case runs once, on the smallest size only, so a test run checks that every benchmark still works
+/// without spending minutes timing it.
+inline bool smoke_run() {
+  static const bool smoke = std::getenv("GEOVORONOI_BENCH_SMOKE") != nullptr;
+  return smoke;
+}
+
+/// For Apply(): a minimum of one second of timing, or one iteration in smoke mode.
+inline void min_time_1s(benchmark::internal::Benchmark* b) {
+  if (smoke_run())
+    b->Iterations(1);
+  else
+    b->MinTime(1.0);
+}
+
 namespace detail {
 
 /// Runs one case with connectivity N: builds the problem, then times @p solve(problem, seeds).
@@ -180,8 +199,10 @@ std::vector<benchmark::internal::Benchmark*> register_solver_cases(const std::st
                                                                    bool manual_time = false, case_hooks hooks = {},
                                                                    benchmark::IterationCount iterations = 0) {
   std::vector<benchmark::internal::Benchmark*> out;
+  const std::vector<int> run_sizes =
+      smoke_run() && !sizes.empty() ? std::vector<int>{*std::min_element(sizes.begin(), sizes.end())} : sizes;
   for (const auto& f : fields)
-    for (int n : sizes)
+    for (int n : run_sizes)
       for (int s : seeds)
         for (int k : conns) {
           if (k != 6 && k != 26)
@@ -195,7 +216,8 @@ std::vector<benchmark::internal::Benchmark*> register_solver_cases(const std::st
               detail::run_case<26>(state, c, solve, manual_time, hooks);
           };
           auto* b = benchmark::RegisterBenchmark(c.name().c_str(), fn);
-          b->Unit(benchmark::kMillisecond)->Iterations(iterations > 0 ? iterations : default_iterations(n));
+          b->Unit(benchmark::kMillisecond)
+              ->Iterations(smoke_run() ? 1 : iterations > 0 ? iterations : default_iterations(n));
           if (manual_time)
             b->UseManualTime();
           else

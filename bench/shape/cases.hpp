@@ -9,6 +9,7 @@
 #include <benchmark/benchmark.h>
 #include <geovoronoi.hpp>
 
+#include <cstdlib>
 #include <memory>
 #include <string>
 #include <vector>
@@ -67,8 +68,12 @@ void run_case(benchmark::State& state, Policy policy, std::shared_ptr<volume> c,
 template <class Policy>
 void register_cases(Policy policy, const std::string& backend) {
   const auto methods = {gv::shape_method::distance_ratio, gv::shape_method::sibson, gv::shape_method::laplace};
+  // smoke mode (GEOVORONOI_BENCH_SMOKE, see bench/common.hpp): the small Table 1 case only; the steak's
+  // Sibson alone takes minutes
+  const bool smoke = std::getenv("GEOVORONOI_BENCH_SMOKE") != nullptr;
   for (const std::string name : {"table1", "128cube_100", "steak"})
     for (auto m : methods) {
+      if (smoke && name != "table1") continue;
       if (name == "128cube_100" && m != gv::shape_method::distance_ratio) continue;
       const std::string id = std::string("shape/") + method_name(m) + "/" + backend + "/" + name;
       auto b = benchmark::RegisterBenchmark(id.c_str(), [policy, name, m](benchmark::State& st) {

@@ -201,13 +201,13 @@ void register_scratch(const std::string& scratch) {
                                  [n](benchmark::State& s) { insert_case<Keys>(s, n); })
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()
-        ->MinTime(1.0);
+        ->Apply(geovoronoi::bench::min_time_1s);
   }
   benchmark::RegisterBenchmark(("sparse/bounded/" + scratch + "/128cube_100").c_str(),
                                [](benchmark::State& s) { bounded_case<Keys>(s, "128cube_100"); })
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime()
-      ->MinTime(1.0);
+      ->Apply(geovoronoi::bench::min_time_1s);
 }
 
 /// Pages of 16 and of 64 voxels give the same cells and bounded solutions, bit for bit.
@@ -247,7 +247,7 @@ GEOVORONOI_BENCH_REGISTER(register_seq_sparse_cases) {
     benchmark::RegisterBenchmark(("sparse/dense/seq/" + n).c_str(), [n](benchmark::State& s) { dense_case(s, n); })
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()
-        ->MinTime(1.0);
+        ->Apply(geovoronoi::bench::min_time_1s);
   }
   for (const bool ws : {false, true}) {
     const std::string policy = ws ? "seq_ws" : "seq";
@@ -255,12 +255,12 @@ GEOVORONOI_BENCH_REGISTER(register_seq_sparse_cases) {
                                  [ws](benchmark::State& s) { bounded_api_case(s, "128cube_100", ws); })
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()
-        ->MinTime(1.0);
+        ->Apply(geovoronoi::bench::min_time_1s);
     benchmark::RegisterBenchmark(("sparse/insert_api/" + policy + "/steak").c_str(),
                                  [ws](benchmark::State& s) { insert_api_case(s, "steak", ws); })
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()
-        ->MinTime(1.0);
+        ->Apply(geovoronoi::bench::min_time_1s);
   }
 }
 

@@ -19,7 +19,7 @@ if(TARGET geovoronoi::thrust_cuda)
   set_tests_properties(test_backend_thrust_cuda PROPERTIES SKIP_RETURN_CODE 77)
   set_target_properties(test_backend_thrust_cuda PROPERTIES CUDA_ARCHITECTURES "${GEOVORONOI_CUDA_ARCHITECTURES}")
 endif()
-if(TARGET geovoronoi::thrust)
+if(TARGET geovoronoi::thrust AND GEOVORONOI_HEADER_CHECKS)
   # The public header compiles on its own (twice: include guard).
   set(_gv_tu ${CMAKE_CURRENT_BINARY_DIR}/headers/geovoronoi_backend_thrust_hpp.cpp)
   file(CONFIGURE OUTPUT ${_gv_tu} CONTENT

@@ -1,5 +1,5 @@
 # End-to-end tests of the geovoronoi command-line tool (run by ctest as `cmake -P`):
-#   -DGEOVORONOI=<path of the binary> -DWORK=<scratch folder> [-DBUILT=seq,thrust,cuda]
+#   -DGEOVORONOI=<path of the binary> -DWORK=<scratch folder> [-DBUILT=seq,thrust,cuda] [-DVERSION=x.y.z]
 # BUILT: the backends the build compiled into the binary (from the CMake targets); default seq.
 # Good runs must exit 0 and leave readable outputs of the right sizes; every bad input must exit 2
 # with exactly one line on stderr that names the problem, and leave no output folder behind.
@@ -242,6 +242,62 @@ if("cuda" IN_LIST BUILT AND NOT cuda_usable)
   endif()
 endif()
 
+# ---- help and version: stdout, exit 0, nothing on stderr -------------------------------------
+run(version 0 --version)
+if(NOT OUT_version MATCHES "^geovoronoi [0-9]+\\.[0-9]+\\.[0-9]+\n$" OR NOT ERR_version STREQUAL "")
+  fail("--version: '${OUT_version}' (stderr '${ERR_version}')")
+endif()
+if(VERSION AND NOT OUT_version STREQUAL "geovoronoi ${VERSION}\n")
+  fail("--version says '${OUT_version}', the CMake project version is ${VERSION}")
+endif()
+run(overview 0 --help)
+run(overview_help 0 help)
+if(NOT OUT_overview STREQUAL OUT_overview_help)
+  fail("--help and help differ")
+endif()
+foreach(c voronoi shape-functions demo backends)
+  if(NOT OUT_overview MATCHES "\n  ${c} ")
+    fail("--help does not list the command ${c}: ${OUT_overview}")
+  endif()
+  run(help_${c} 0 help ${c})
+  run(dash_help_${c} 0 ${c} --help)
+  run(h_${c} 0 ${c} -h)
+  if(NOT OUT_help_${c} STREQUAL OUT_dash_help_${c} OR NOT OUT_help_${c} STREQUAL OUT_h_${c})
+    fail("help ${c}, ${c} --help and ${c} -h differ")
+  endif()
+  if(NOT ERR_help_${c} STREQUAL "" OR NOT ERR_dash_help_${c} STREQUAL "")
+    fail("help ${c} wrote to stderr: ${ERR_help_${c}} ${ERR_dash_help_${c}}")
+  endif()
+  foreach(part "usage: geovoronoi ${c}" "writes" "example:\n  geovoronoi ${c}")
+    string(FIND "${OUT_help_${c}}" "${part}" hit)
+    if(hit EQUAL -1)
+      fail("help ${c} lacks '${part}': ${OUT_help_${c}}")
+    endif()
+  endforeach()
+endforeach()
+# every option's default is stated
+foreach(part "(default: min_stiffness)" "(default: 26)" "(default: 1)" "(default: the fastest built one")
+  string(FIND "${OUT_help_voronoi}" "${part}" hit)
+  if(hit EQUAL -1)
+    fail("help voronoi does not state '${part}'")
+  endif()
+endforeach()
+foreach(part "(default: 4)" "distance-ratio, sibson or laplace")
+  string(FIND "${OUT_help_shape-functions}" "${part}" hit)
+  if(hit EQUAL -1)
+    fail("help shape-functions does not state '${part}'")
+  endif()
+endforeach()
+string(FIND "${OUT_help_demo}" "(default: demo-out)" hit)
+if(hit EQUAL -1)
+  fail("help demo does not state its default folder")
+endif()
+# --help wins over the other options, even bad ones, and does no work
+run(help_with_options 0 voronoi --stiffness nope.mhd --help --out x-help)
+if(NOT OUT_help_with_options STREQUAL OUT_help_voronoi OR EXISTS ${WORK}/x-help)
+  fail("voronoi --help with other options: ${OUT_help_with_options}")
+endif()
+
 # ---- bad input: exit 2, one line on stderr naming the problem, no output folder ----------------
 file(WRITE ${WORK}/outside.csv "2,2,1\n40,2,1\n")
 file(WRITE ${WORK}/masked.csv "0,0,0\n")
@@ -273,9 +329,9 @@ set(cases
   "unknown_format|voronoi,--stiffness,stiff.tif,--seeds,seeds.csv,--out,x8|unknown volume format"
   "extrude_not_picture|voronoi,--stiffness,out-v/distance.mhd,--extrude,3,--seeds,seeds.csv,--out,x9|--extrude"
   "bad_extrude|voronoi,--stiffness,stiff.pgm,--extrude,0,--seeds,seeds.csv,--out,x10|--extrude"
-  "seed_outside|voronoi,${SC},--seeds,outside.csv,--out,x11|outside.csv:2"
-  "seed_masked|voronoi,${SC},--seeds,masked.csv,--out,x12|masked"
-  "seed_duplicate|voronoi,${SC},--seeds,dup.csv,--out,x13|same voxel"
+  "seed_outside|voronoi,${SC},--seeds,outside.csv,--out,x11|outside.csv:2: the seed on line 2 at (40"
+  "seed_masked|voronoi,${SC},--seeds,masked.csv,--out,x12|masked.csv:1: the seed on line 1 at (0"
+  "seed_duplicate|voronoi,${SC},--seeds,dup.csv,--out,x13|dup.csv:3: the seeds on lines 1 and 3 share the voxel"
   "seed_text|voronoi,${SC},--seeds,text.csv,--out,x14|not a number"
   "seed_fraction|voronoi,${SC},--seeds,frac.csv,--out,x15|not an integer"
   "seed_empty|voronoi,${SC},--seeds,empty.csv,--out,x16|no seeds"
@@ -290,6 +346,8 @@ set(cases
   "bad_k|shape-functions,${SC},--seeds,seeds.csv,--method,sibson,--nodes-per-voxel,0,--out,x24|--nodes-per-voxel"
   "demo_bad_option|demo,--size,3|unknown option"
   "bad_picture_node|shape-functions,${SC},--seeds,seeds.csv,--method,sibson,--picture-node,3,--out,x25|--picture-node 3"
+  "help_unknown|help,frobnicate|unknown command 'frobnicate'"
+  "help_two|help,voronoi,demo|at most one"
 )
 foreach(c ${cases})
   string(REPLACE "|" ";" parts "${c}")

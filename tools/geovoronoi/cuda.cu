@@ -1,6 +1,6 @@
 // The geovoronoi tool's CUDA backend: the only translation unit that includes the CUDA headers
 // (built by nvcc when the geovoronoi::cuda target exists; see tools/geovoronoi/CMakeLists.txt). It exposes
-// plain host functions (solve.hpp) so main.cpp stays ordinary C++.
+// plain host functions (solve.hpp) so the rest of the tool stays ordinary C++.
 
 #include "solve.hpp"
 

@@ -3,26 +3,22 @@
 //
 // A problem is described by plain host data (problem_spec: the field image, the seeds, the metric's
 // name and the connectivity); solve_voronoi() / solve_shape() turn the names into the library's
-// policy types and call it with the given backend policy. main.cpp instantiates them for the host
-// backends; cuda.cu (compiled by nvcc, only when the CUDA backend is built) instantiates them for
-// geovoronoi::cuda::par and exposes the plain functions declared at the end of this file, so the
-// rest of the tool never includes a .cuh header.
+// policy types and call it with the given backend policy. Each backend instantiates them in its own
+// translation unit (backend_seq.cpp, backend_thrust.cpp, cuda.cu compiled by nvcc) and exposes the
+// plain functions declared at the end of this file, which backends.cpp puts in the backend table;
+// so no other file includes a backend header, and only cuda.cu needs nvcc.
 
 #include <geovoronoi.hpp>
 #include <geovoronoi/shape_functions.hpp>
 
-#include <stdexcept>
+#include "usage_error.hpp"
+
 #include <string>
 #include <vector>
 
 namespace gvcli {
 
 namespace gv = geovoronoi;
-
-/// Bad input from the user: one line on stderr, exit code 2.
-struct usage_error : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 /// Calls f with the metric object named @p name.
 template <class F>
@@ -76,14 +72,19 @@ gv::shape_weights<float, 3> solve_shape(const Policy& policy, const problem_spec
   return w;
 }
 
-// ---- the CUDA backend, defined in cuda.cu (only linked in when GEOVORONOI_CLI_CUDA is defined) ----
+// ---- each backend's entry points (backend_seq.cpp, backend_thrust.cpp, cuda.cu) ----------------
+// Defined only when that backend is built (see backends.cpp, the table that uses them).
 
+gv::diagram<float, 3> seq_voronoi(const problem_spec& s);
+gv::shape_weights<float, 3> seq_shape(const problem_spec& s, const gv::diagram<float, 3>& d,
+                                      const gv::shape_options& opt);
+gv::diagram<float, 3> thrust_voronoi(const problem_spec& s);
+gv::shape_weights<float, 3> thrust_shape(const problem_spec& s, const gv::diagram<float, 3>& d,
+                                         const gv::shape_options& opt);
 /// Whether a CUDA device can be used: an empty string when it can (then @p device holds its name),
 /// else why not (no device, no driver, ...). Never throws.
 std::string cuda_unavailable_reason(std::string* device = nullptr);
-/// solve_voronoi() on geovoronoi::cuda::par.
 gv::diagram<float, 3> cuda_voronoi(const problem_spec& s);
-/// solve_shape() on geovoronoi::cuda::par.
 gv::shape_weights<float, 3> cuda_shape(const problem_spec& s, const gv::diagram<float, 3>& d,
                                        const gv::shape_options& opt);
 

@@ -1,0 +1,49 @@
+// geovoronoi voronoi: the geodesic Voronoi diagram of a seed file over a stiffness volume.
+#include "../command.hpp"
+#include "../job.hpp"
+
+namespace gvcli {
+
+namespace {
+
+int run(const std::vector<std::string>& args) {
+  const arguments a(args, solve_options(), solve_flags());
+  return solve_and_write("voronoi", a, [](auto&&...) {});
+}
+
+}  // namespace
+
+const command voronoi_command = {
+    "voronoi", "the geodesic Voronoi diagram of the seeds (distance and label volumes, pictures)",
+    "usage: geovoronoi voronoi --stiffness FILE --seeds FILE --out DIR [options]\n"
+    "\n"
+    "The geodesic Voronoi diagram of the seeds over the stiffness volume: every voxel's distance to\n"
+    "its nearest seed along paths inside the object, and that seed's index.\n"
+    "\n"
+    "options:\n"
+    "  --stiffness FILE    the field: .mhd/.mha (MetaImage), .npy, or .pgm/.ppm (a picture, see --extrude)\n"
+    "                      (required)\n"
+    "  --seeds FILE        CSV, one seed per line: i,j,k voxel indices (x,y,z with --world); # comments\n"
+    "                      (required)\n"
+    "  --out DIR           output folder, filled only when everything succeeded (required)\n"
+    "  --metric M          min_stiffness, mean_stiffness, mean_cost or uniform (default: min_stiffness)\n"
+    "  --connectivity N    6, 18 or 26 neighbours (default: 26)\n"
+    "  --backend B         seq, thrust or cuda (default: the fastest built one that runs here; see\n"
+    "                      `geovoronoi backends`)\n"
+    "  --world             seeds are physical x,y,z coordinates, rounded to the nearest voxel centre\n"
+    "                      (default: voxel indices)\n"
+    "  --extrude N         repeat a .pgm/.ppm picture into N slices along z (default: 1)\n"
+    "  --help              this text\n"
+    "\n"
+    "writes, in DIR:\n"
+    "  distance.mhd/.raw   geodesic distance to the nearest seed (float; +inf outside or unreachable)\n"
+    "  label.mhd/.raw      0-based index of the nearest seed (int32; -1 outside or unreachable)\n"
+    "  labels.png          the cells on the three mid-slices\n"
+    "  distance.png        the distance on the three mid-slices\n"
+    "  voronoi.vti         label, distance and stiffness for ParaView\n"
+    "\n"
+    "example:\n"
+    "  geovoronoi voronoi --stiffness demo-out/stiffness.mhd --seeds demo-out/seeds.csv --out cells\n",
+    run};
+
+}  // namespace gvcli

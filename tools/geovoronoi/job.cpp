@@ -1,0 +1,127 @@
+// See job.hpp.
+#include "job.hpp"
+
+#include "outputs.hpp"
+#include "seed_file.hpp"
+
+#include <geovoronoi/io/read.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <regex>
+
+namespace gvcli {
+
+namespace gio = geovoronoi::io;
+using geovoronoi::index_t;
+
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  std::string e = std::filesystem::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return e;
+}
+
+/// Rewrites the library's "seed I ..." / "seeds I and J ..." message with the seed file's lines:
+/// "FILE:LINE: the seed on line LINE ..." (for two seeds, LINE is the later one's).
+std::string locate_seed_error(std::string msg, const std::string& path, const std::vector<int>& lines) {
+  const std::string prefix = "geovoronoi: ";
+  if (msg.compare(0, prefix.size(), prefix) == 0) msg.erase(0, prefix.size());
+  const auto line_of = [&](const std::string& index) {
+    const auto i = std::stoull(index);
+    return i < lines.size() ? lines[i] : -1;
+  };
+  std::smatch m;
+  static const std::regex two("\\bseeds ([0-9]+) and ([0-9]+)\\b");
+  static const std::regex one("\\bseed ([0-9]+)\\b");
+  if (std::regex_search(msg, m, two)) {
+    const int a = line_of(m[1]), b = line_of(m[2]);
+    return path + ":" + std::to_string(std::max(a, b)) + ": " + m.prefix().str() + "the seeds on lines " +
+           std::to_string(std::min(a, b)) + " and " + std::to_string(std::max(a, b)) + m.suffix().str();
+  }
+  if (std::regex_search(msg, m, one)) {
+    const int a = line_of(m[1]);
+    return path + ":" + std::to_string(a) + ": " + m.prefix().str() + "the seed on line " + std::to_string(a) +
+           m.suffix().str();
+  }
+  return msg;
+}
+
+}  // namespace
+
+std::set<std::string> solve_options(std::set<std::string> extra) {
+  extra.insert({"--stiffness", "--seeds", "--metric", "--connectivity", "--backend", "--out", "--extrude"});
+  return extra;
+}
+
+std::set<std::string> solve_flags() { return {"--world"}; }
+
+job load_job(const arguments& a) {
+  job j;
+  j.stiffness_path = a.require("--stiffness");
+  j.seeds_path = a.require("--seeds");
+  j.out = a.require("--out");
+  j.metric = a.get("--metric", "min_stiffness");
+  with_metric(j.metric, [](auto) {});
+  j.connectivity = int(a.integer("--connectivity", 26, 0, 1000));
+  with_connectivity(j.connectivity, [](auto) {});
+  j.solver = &pick_backend(a);
+  const std::string ext = lower_extension(j.stiffness_path);
+  const bool picture = ext == ".pgm" || ext == ".ppm" || ext == ".pnm";
+  if (a.has("--extrude") && !picture) throw usage_error("--extrude applies to .pgm/.ppm pictures only");
+  gio::read_options ro;
+  ro.extrude = index_t(a.integer("--extrude", 1, 1, 100000));
+  auto vol = gio::read_volume<float>(j.stiffness_path, ro);
+  if (vol.channels != 1)
+    throw usage_error(j.stiffness_path + ": has " + std::to_string(vol.channels) + " channels; a stiffness image needs 1");
+  j.field = vol.channel<3>(0);
+  const auto& g = j.field.geometry();
+  const bool world = a.has("--world");
+  for (const auto& r : read_seed_rows(j.seeds_path, !world)) {
+    const std::string where = j.seeds_path + ":" + std::to_string(r.line) + ": seed ";
+    if (r.count == 2 && g.extent(2) != 1)
+      throw usage_error(where + "has 2 values but the volume has " + std::to_string(g.extent(2)) + " slices");
+    gv::coord<3> c;
+    if (world) {
+      c = g.nearest_voxel({r.x[0], r.x[1], r.x[2]});
+    } else {
+      for (int k = 0; k < 3; ++k) {
+        if (std::abs(r.x[k]) > 9e15) throw usage_error(where + "coordinate out of range");
+        c[k] = index_t(r.x[k]);
+      }
+    }
+    j.seeds.push_back(c);
+    j.seed_lines.push_back(r.line);
+  }
+  return j;
+}
+
+gv::diagram<float, 3> solve_diagram(const job& j) {
+  try {
+    return j.solver->voronoi(j.spec());
+  } catch (const std::invalid_argument& e) {
+    throw usage_error(locate_seed_error(e.what(), j.seeds_path, j.seed_lines));
+  }
+}
+
+int solve_and_write(const char* command, const arguments& a,
+                    const std::function<void(const job&, const gv::diagram<float, 3>&, output_dir&, progress_bar&)>& more) {
+  progress_bar bar(std::string("geovoronoi ") + command);
+  bar.update("reading");
+  const job j = load_job(a);
+  output_dir out(j.out);
+  bar.update("voronoi");
+  const auto d = solve_diagram(j);
+  bar.update("writing");
+  write_voronoi(out, d, j.field);
+  more(j, d, out, bar);
+  out.commit();
+  bar.finish();
+  summary(command, j.field.geometry(), j.seeds.size(), j.solver->name, bar.seconds(), j.out);
+  return 0;
+}
+
+}  // namespace gvcli

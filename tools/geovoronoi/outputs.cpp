@@ -1,0 +1,84 @@
+// The geovoronoi tool's outputs (see outputs.hpp and docs/cli.md).
+#include "outputs.hpp"
+
+#include <geovoronoi/io/metaimage.hpp>
+#include <geovoronoi/io/npy.hpp>
+#include <geovoronoi/io/png.hpp>
+#include <geovoronoi/io/vti.hpp>
+
+#include <cstdint>
+#include <cstdio>
+#include <vector>
+
+namespace gvcli {
+
+namespace gio = geovoronoi::io;
+using geovoronoi::index_t;
+
+namespace {
+
+template <class T>
+gio::volume<T> planar_volume(const gv::grid<3>& g, int channels) {
+  gio::volume<T> v;
+  v.dims = 3;
+  v.extents = g.extents();
+  v.spacing = g.spacing();
+  v.origin = g.origin();
+  v.channels = channels;
+  v.data.assign(std::size_t(g.size()) * std::size_t(channels), T(0));
+  return v;
+}
+
+}  // namespace
+
+void write_voronoi(const output_dir& out, const gv::diagram<float, 3>& d, const gv::image<float, 3>& field) {
+  gio::write_metaimage(out.file("distance.mhd"), d.distance);
+  gio::write_metaimage(out.file("label.mhd"), d.label);
+  gio::write_png(out.file("labels.png"), gio::label_montage(d.label, d.seeds, &field));
+  gio::write_png(out.file("distance.png"), gio::distance_montage(d.distance, d.seeds));
+  gio::vti_writer<3> w(d.geometry());
+  w.add("label", d.label).add("distance", d.distance).add("stiffness", field);
+  w.write(out.file("voronoi.vti"));
+}
+
+void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, const gv::diagram<float, 3>& d,
+                 int png_node) {
+  const auto& g = w.geometry;
+  const std::size_t n = std::size_t(g.size()), k = std::size_t(w.k);
+  auto idx = planar_volume<std::uint32_t>(g, w.k);
+  auto wt = planar_volume<float>(g, w.k);
+  for (std::size_t v = 0; v < n; ++v)
+    for (std::size_t s = 0; s < k; ++s) {
+      const auto node = w.node[v * k + s];
+      idx.data[s * n + v] = node < 0 ? 0u : std::uint32_t(node) + 1u;
+      wt.data[s * n + v] = node < 0 ? 0.0f : float(w.weight[v * k + s]);
+    }
+  gio::metaimage_write_options planar;
+  planar.layout = gio::channel_layout::planar;
+  gio::write_metaimage(dir + "/indices.mhd", idx, planar);
+  gio::write_metaimage(dir + "/weights.mhd", wt, planar);
+  auto m = w.to_sparse_matrix();
+  m.makeCompressed();
+  std::vector<std::int64_t> indptr(std::size_t(m.rows()) + 1);
+  for (std::size_t r = 0; r < indptr.size(); ++r) indptr[r] = m.outerIndexPtr()[r];
+  std::vector<std::int32_t> indices(m.innerIndexPtr(), m.innerIndexPtr() + m.nonZeros());
+  std::vector<float> data(m.valuePtr(), m.valuePtr() + m.nonZeros());
+  gio::write_npy(dir + "/weights_indptr.npy", indptr);
+  gio::write_npy(dir + "/weights_indices.npy", indices);
+  gio::write_npy(dir + "/weights_data.npy", data);
+  gv::image<float, 3> one(g, 0.0f);
+  for (std::size_t v = 0; v < n; ++v)
+    for (std::size_t s = 0; s < k; ++s)
+      if (w.node[v * k + s] == png_node) one[index_t(v)] = float(w.weight[v * k + s]);
+  const index_t node_voxel = png_node >= 0 && std::size_t(png_node) < d.seeds.size() ? d.seeds[std::size_t(png_node)] : -1;
+  gio::write_png(dir + "/weight_node" + std::to_string(png_node) + ".png", gio::weight_montage(one, node_voxel));
+}
+
+void summary(const char* what, const gv::grid<3>& g, std::size_t seeds, const std::string& backend, double seconds,
+             const std::string& out) {
+  std::printf("geovoronoi %s: %lld voxels, %zu seeds, backend %s, %.2f s, outputs in %s\n", what, (long long)g.size(),
+              seeds, backend.c_str(), seconds, out.c_str());
+  std::fflush(stdout);
+}
+
+}  // namespace gvcli
