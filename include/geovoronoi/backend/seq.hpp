@@ -141,6 +141,10 @@ query_cells<T_of<P>> backend_insert_queries(par_t policy, const P& p, const diag
   return out;
 }
 
+/// The shape functions may run their insert-queries as fused host searches on this backend (its
+/// engine is a host Dijkstra anyway): see detail/shape/fused_query.hpp.
+inline std::true_type backend_queries_on_host(par_t) { return {}; }
+
 }  // namespace sequential
 
 /// The sequential backend's policy object: `geovoronoi::voronoi(geovoronoi::seq, ...)`.

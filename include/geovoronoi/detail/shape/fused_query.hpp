@@ -1,0 +1,155 @@
+#pragma once
+// Fused count-only insert-query for Sibson and Laplace on the host (host backends: seq and the Thrust
+// host systems). The search from a query q is the same pruned Dijkstra as the engines' insert-query
+// (it enters v only if d_q(v) < d(v)), with the same float expression for every relaxation, so it
+// finds the same new cell C_q and the same d_q on it, bit for bit. But instead of materialising the
+// cell (voxel, distance, owner), sorting it and re-reading it, it counts while it goes:
+//
+//  * Sibson: each settled voxel adds one to its owner's volume.
+//  * Laplace: a facet pair (v in C_q, w not in C_q) can only be decided once the search has ended,
+//    since w may still enter the cell later. After the search, the keys in the scratch say it: w is in
+//    C_q iff its key fell below its initial bound. The pass runs over the cell list the search kept
+//    (it needs it anyway to reset its keys).
+//
+// Scratch: one dense key array of the grid's size per worker (distance only, not (distance, label):
+// insert-query carries one label, so comparing distances is comparing the engines' keys), reset
+// through the cell list, the radix heap and the cell list. Nothing is allocated per query once the
+// vectors have grown.
+
+#include <geovoronoi/config.hpp>
+#include <geovoronoi/detail/key.hpp>
+#include <geovoronoi/detail/radix_heap.hpp>
+#include <geovoronoi/detail/shape/common.hpp>
+#include <geovoronoi/detail/stencil_walk.hpp>
+#include <geovoronoi/error.hpp>
+#include <geovoronoi/metric.hpp>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace geovoronoi::detail::shape {
+
+[[noreturn]] inline void fused_bad_weight(double w) {
+  throw metric_error("geovoronoi: the metric returned the edge weight " + std::to_string(w) +
+                     "; weights must be >= 0 and not NaN");
+}
+
+/// One worker's scratch for fused queries on problem P.
+template <class P>
+class fused_query {
+ public:
+  using T = typename P::value_type;
+  using kt = key_traits<T>;
+
+  /// Bytes of the dense part of one scratch (the key array), what a memory budget must allow per worker.
+  static std::size_t dense_bytes(const P& p) { return std::size_t(p.geometry.size()) * sizeof(T); }
+
+  fused_query(const P& p, const T* dist, const label_t* lab)
+      : p_(p), walk_(p), dist_(dist), lab_(lab), key_(std::size_t(p.geometry.size())) {
+    const index_t n = p.geometry.size();
+    for (index_t v = 0; v < n; ++v) key_[std::size_t(v)] = bound(v);
+  }
+
+  /// Bytes this scratch holds now (keys, cell list, heap buckets are counted by their items).
+  std::size_t bytes() const noexcept {
+    return key_.capacity() * sizeof(T) + cell_.capacity() * sizeof(index_t) + heap_peak_ * sizeof(typename radix_heap<T>::item);
+  }
+
+  /**
+   * Accumulates the new cell of query @p q (d(q) > 0) into @p acc (cleared first): volumes per owner,
+   * and for Laplace the facet faces per node and axis and h per node. Returns whether the cell has a
+   * facet pair; @p visited gets the number of voxels settled (the cell's size).
+   */
+  bool run(index_t q, bool laplace, const std::vector<face<P::dim>>& faces, accumulators& acc, std::size_t& visited) {
+    acc.clear();
+    cell_.clear();
+    heap_.clear();
+    search(q);
+    visited = cell_.size();
+    for (index_t v : cell_) {
+      const label_t o = lab_[v];
+      if (o < 0) continue;
+      acc.touch(o);
+      ++acc.volume[o];
+    }
+    bool any_facet = false;
+    if (laplace) any_facet = facets(faces, acc);
+    for (index_t v : cell_) key_[std::size_t(v)] = bound(v);
+    return any_facet;
+  }
+
+ private:
+  /// The initial key of v: the diagram's distance, which a candidate must beat to enter the cell. A
+  /// bound that is not > 0 (a node's +0, a foreign -0, NaN) admits no candidate.
+  T bound(index_t v) const noexcept { return dist_[v] > T(0) ? dist_[v] : T(0); }
+
+  void search(index_t q) {
+    if (!(T(0) < dist_[q])) return;  // a query on a node has an empty cell
+    const T* field = p_.field;
+    T* key = key_.data();
+    key[q] = T(0);
+    heap_.push(kt::make(T(0), 0), q);
+    std::size_t live = 1;
+    while (!heap_.empty()) {
+      const auto it = heap_.pop();
+      --live;
+      const index_t v = it.voxel;
+      const T dv = kt::distance(it.key);
+      if (dv != key[v]) continue;  // stale: v was queued again with a smaller distance
+      cell_.push_back(v);
+      const T fv = field[v];
+      walk_.for_each_neighbour(v, [&](int k, index_t u) {
+        const T ku = key[u];
+        if (!(dv < ku)) return;  // settled, or out of reach (the candidate cannot beat ku)
+        const T fu = field[u];
+        if (!detail::inside<typename P::metric_type>(fu)) return;
+        const T w = p_.metric(p_.edges.length[k], fv, fu);
+        if (!(w >= T(0))) fused_bad_weight(double(w));
+        const T nd = dv + w;
+        if (nd < ku) {
+          key[u] = nd;
+          heap_.push(kt::make(nd, 0), u);
+          if (++live > heap_peak_) heap_peak_ = live;
+        }
+      });
+    }
+  }
+
+  bool facets(const std::vector<face<P::dim>>& faces, accumulators& acc) const {
+    bool any_facet = false;
+    const T* key = key_.data();
+    for (index_t v : cell_) {
+      const auto c = p_.geometry.coords(v);
+      const T fv = p_.field[v];
+      const T dq = key[v];
+      for (const auto& f : faces) {
+        if (!face_in_grid(p_, c, f)) continue;
+        const index_t w = v + f.delta;
+        if (!p_.inside(w)) continue;
+        const label_t k = lab_[w];
+        if (k == no_label) continue;
+        if (key[w] < bound(w)) continue;  // w is in the cell too
+        acc.touch(k);
+        ++acc.faces[k][f.axis];
+        any_facet = true;
+        const T cvw = p_.metric(p_.edges.length[f.edge], fv, p_.field[w]);
+        T h = dq + cvw;
+        h = h + dist_[w];
+        if (double(h) < acc.h[k]) acc.h[k] = double(h);
+      }
+    }
+    return any_facet;
+  }
+
+  const P& p_;
+  stencil_walker<P> walk_;
+  const T* dist_;
+  const label_t* lab_;
+  std::vector<T> key_;
+  std::vector<index_t> cell_;
+  radix_heap<T> heap_;
+  std::size_t heap_peak_ = 0;
+};
+
+}  // namespace geovoronoi::detail::shape
