@@ -61,10 +61,14 @@ struct shape_options {
   /// typical size of a query's new cell.
   std::size_t batch_size = 4096;
   /// Bytes the Sibson/Laplace query loop may hold in scratch at once. On host backends (seq, Thrust on
-  /// host systems) each worker needs about 2 * sizeof(T) * voxels; fewer workers run when the budget
+  /// host systems) each worker is budgeted about 28 bytes per voxel of the grid (float); fewer workers run when the budget
   /// does not allow one per thread, and a budget below one worker throws std::invalid_argument. On
   /// other backends it caps the queries per batch from the cell sizes seen so far.
   std::size_t memory_budget = std::size_t(1) << 30;
+  /// Sibson/Laplace on host backends: fill the part of a query's new cell that lies in an exact ball of
+  /// its constant-field region from a distance table instead of searching it (piecewise.hpp). The
+  /// weights are bitwise the same either way; false is for comparisons.
+  bool reuse_constant_regions = true;
   /// Optional: filled with statistics of the call (see shape_stats).
   shape_stats* stats = nullptr;
   /// Optional progress callback, called between backend calls with the fraction done in [0, 1];

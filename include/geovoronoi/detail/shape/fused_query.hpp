@@ -20,11 +20,14 @@
 #include <geovoronoi/detail/key.hpp>
 #include <geovoronoi/detail/radix_heap.hpp>
 #include <geovoronoi/detail/shape/common.hpp>
+#include <geovoronoi/detail/shape/piecewise.hpp>
 #include <geovoronoi/detail/stencil_walk.hpp>
 #include <geovoronoi/error.hpp>
 #include <geovoronoi/metric.hpp>
 
+#include <algorithm>
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -45,8 +48,9 @@ class fused_query {
   /// Bytes of the dense part of one scratch (the key array), what a memory budget must allow per worker.
   static std::size_t dense_bytes(const P& p) { return std::size_t(p.geometry.size()) * sizeof(T); }
 
-  fused_query(const P& p, const T* dist, const label_t* lab)
-      : p_(p), walk_(p), dist_(dist), lab_(lab), key_(std::size_t(p.geometry.size())) {
+  /// @p pw: tables for the exact balls of piecewise-constant regions (piecewise.hpp), or null.
+  fused_query(const P& p, const T* dist, const label_t* lab, const piecewise_tables<P>* pw = nullptr)
+      : p_(p), walk_(p), dist_(dist), lab_(lab), pw_(pw), key_(std::size_t(p.geometry.size())) {
     const index_t n = p.geometry.size();
     for (index_t v = 0; v < n; ++v) key_[std::size_t(v)] = bound(v);
   }
@@ -88,9 +92,12 @@ class fused_query {
     if (!(T(0) < dist_[q])) return;  // a query on a node has an empty cell
     const T* field = p_.field;
     T* key = key_.data();
-    key[q] = T(0);
-    heap_.push(kt::make(T(0), 0), q);
-    std::size_t live = 1;
+    std::size_t live = 0;
+    if (!(pw_ && seed_from_table(q, live))) {
+      key[q] = T(0);
+      heap_.push(kt::make(T(0), 0), q);
+      live = 1;
+    }
     while (!heap_.empty()) {
       const auto it = heap_.pop();
       --live;
@@ -114,6 +121,65 @@ class fused_query {
         }
       });
     }
+  }
+
+  /**
+   * The exact ball of q's constant region (piecewise.hpp): its cell voxels get their distances from the
+   * table; those whose neighbourhood lies in the ball join the cell list at once, the others (the rim)
+   * are queued so the search continues from them. Returns false (nothing done) where no ball applies.
+   */
+  bool seed_from_table(index_t q, std::size_t& live) {
+    const auto* t = pw_->table_of(q);
+    if (!t) return false;
+    const index_t m = pw_->m(q);
+    index_t ext[3], qc[3];
+    for (int a = 0; a < 3; ++a) ext[a] = pw_->extent(a);
+    {
+      index_t v = q;
+      qc[0] = v % ext[0];
+      v /= ext[0];
+      qc[1] = v % ext[1];
+      qc[2] = v / ext[1];
+    }
+    const index_t stride[3] = {1, t->e[0], t->e[0] * t->e[1]};
+    const T* L = t->L.data();
+    T r = std::numeric_limits<T>::infinity();
+    for (int a = 0; a < P::dim; ++a)
+      if (m <= ext[a] - 1) r = std::min(r, L[m * stride[a]]);
+    if (!(T(0) < r) || !(r < std::numeric_limits<T>::infinity())) return false;
+    index_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::max<index_t>(0, qc[a] - (m - 1));
+      hi[a] = std::min<index_t>(ext[a] - 1, qc[a] + (m - 1));
+    }
+    T* key = key_.data();
+    for (index_t z = lo[2]; z <= hi[2]; ++z) {
+      const index_t oz = z > qc[2] ? z - qc[2] : qc[2] - z;
+      const index_t iz = std::min(oz + 1, ext[2] - 1);
+      for (index_t y = lo[1]; y <= hi[1]; ++y) {
+        const index_t oy = y > qc[1] ? y - qc[1] : qc[1] - y;
+        const index_t iy = std::min(oy + 1, ext[1] - 1);
+        const T* row = L + stride[1] * oy + stride[2] * oz;
+        const T* next = L + stride[1] * iy + stride[2] * iz;
+        const index_t base = ext[0] * (y + ext[1] * z);
+        for (index_t x = lo[0]; x <= hi[0]; ++x) {
+          const index_t ox = x > qc[0] ? x - qc[0] : qc[0] - x;
+          const T l = row[ox];
+          if (!(l < r)) continue;  // outside the ball
+          const index_t v = base + x;
+          if (!(l < key[v])) continue;  // not in the cell (key[v] is still its bound)
+          key[v] = l;
+          if (next[std::min(ox + 1, ext[0] - 1)] < r) {
+            cell_.push_back(v);  // its whole neighbourhood is in the ball: exact already
+          } else {
+            heap_.push(kt::make(l, 0), v);
+            ++live;
+          }
+        }
+      }
+    }
+    if (live > heap_peak_) heap_peak_ = live;
+    return true;
   }
 
   bool facets(const std::vector<face<P::dim>>& faces, accumulators& acc) const {
@@ -146,6 +212,7 @@ class fused_query {
   stencil_walker<P> walk_;
   const T* dist_;
   const label_t* lab_;
+  const piecewise_tables<P>* pw_;
   std::vector<T> key_;
   std::vector<index_t> cell_;
   radix_heap<T> heap_;

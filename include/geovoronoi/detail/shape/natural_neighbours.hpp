@@ -135,18 +135,22 @@ struct fused_worker {
   fused_query<P> search;
   query_scratch<typename P::value_type> s;
   std::size_t peak = 0;  // largest bytes() seen
-  fused_worker(const P& p, const typename P::value_type* dist, const label_t* lab, std::size_t nodes)
-      : search(p, dist, lab), s(nodes) {}
+  fused_worker(const P& p, const typename P::value_type* dist, const label_t* lab, std::size_t nodes,
+               const piecewise_tables<P>* pw)
+      : search(p, dist, lab, pw), s(nodes) {}
   std::size_t bytes() const noexcept {
     return search.bytes() + s.acc.volume.capacity() * (sizeof(std::int64_t) * 4 + sizeof(double) + 1 + sizeof(label_t));
   }
 };
 
-/// Bytes one fused worker is budgeted: its key array twice over (the cell list and the queue grow
-/// with the cells, which stay far below the grid on real problems) plus the per-node accumulators.
+/// Bytes one fused worker is budgeted: its key array, room for a cell list of the whole grid and a
+/// queue of half the grid (cells stay far below that on real problems), the per-node accumulators.
 template <class P>
 std::size_t fused_worker_budget(const P& p, std::size_t nodes) {
-  return 2 * fused_query<P>::dense_bytes(p) + nodes * 64 + 4096;
+  using T = typename P::value_type;
+  const std::size_t n = std::size_t(p.geometry.size());
+  return fused_query<P>::dense_bytes(p) + n * sizeof(index_t) + n / 2 * sizeof(typename radix_heap<T>::item) +
+         nodes * 64 + 65536;
 }
 
 /**
@@ -168,8 +172,16 @@ void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, cons
                                 " bytes, but one query worker on this grid needs " + std::to_string(per_worker));
   const T* dist = d.distance.data();
   const label_t* lab = d.label.data();
-  scratch_pool<fused_worker<P>> pool(opt.memory_budget / per_worker,
-                                     [&] { return std::make_unique<fused_worker<P>>(p, dist, lab, nodes); });
+  // exact balls on constant regions (piecewise.hpp): a few small table solves, 3 bytes per voxel
+  std::unique_ptr<piecewise_tables<P>> pw;
+  if (opt.reuse_constant_regions) {
+    pw = std::make_unique<piecewise_tables<P>>(policy, p);
+    if (pw->empty() || pw->bytes() + per_worker > opt.memory_budget) pw.reset();
+  }
+  const std::size_t shared = pw ? pw->bytes() : 0;
+  scratch_pool<fused_worker<P>> pool((opt.memory_budget - shared) / per_worker, [&] {
+    return std::make_unique<fused_worker<P>>(p, dist, lab, nodes, pw.get());
+  });
   const std::size_t total = queries.size();
   const std::size_t group = queries_per_task;
   const std::size_t groups = (total + group - 1) / group;
@@ -224,7 +236,7 @@ void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, cons
     std::size_t peak = 0;
     pool.for_each([&](const fused_worker<P>& wk) { peak += wk.peak; });
     opt.stats->workers = pool.created();
-    opt.stats->peak_scratch_bytes = peak;
+    opt.stats->peak_scratch_bytes = peak + shared;
     opt.stats->voxels_visited = visited_total.load();
     opt.stats->queries = total;
   }
