@@ -46,18 +46,18 @@ class fused_query {
   using kt = key_traits<T>;
 
   /// Bytes of the dense part of one scratch (the key array), what a memory budget must allow per worker.
-  static std::size_t dense_bytes(const P& p) { return std::size_t(p.geometry.size()) * sizeof(T); }
+  static std::size_t dense_bytes(const P& p) { return std::size_t(p.geometry.size()) * sizeof(slot); }
 
   /// @p pw: tables for the exact balls of piecewise-constant regions (piecewise.hpp), or null.
   fused_query(const P& p, const T* dist, const label_t* lab, const piecewise_tables<P>* pw = nullptr)
       : p_(p), walk_(p), dist_(dist), lab_(lab), pw_(pw), key_(std::size_t(p.geometry.size())) {
     const index_t n = p.geometry.size();
-    for (index_t v = 0; v < n; ++v) key_[std::size_t(v)] = bound(v);
+    for (index_t v = 0; v < n; ++v) key_[std::size_t(v)] = {bound(v), p.field[v]};
   }
 
   /// Bytes this scratch holds now (keys, cell list, heap buckets are counted by their items).
   std::size_t bytes() const noexcept {
-    return key_.capacity() * sizeof(T) + cell_.capacity() * sizeof(index_t) + heap_peak_ * sizeof(typename radix_heap<T>::item);
+    return key_.capacity() * sizeof(slot) + cell_.capacity() * sizeof(index_t) + heap_peak_ * sizeof(typename radix_heap<T>::item);
   }
 
   /**
@@ -79,22 +79,30 @@ class fused_query {
     }
     bool any_facet = false;
     if (laplace) any_facet = facets(faces, acc);
-    for (index_t v : cell_) key_[std::size_t(v)] = bound(v);
+    for (index_t v : cell_) key_[std::size_t(v)].key = bound(v);
     return any_facet;
   }
 
  private:
   /// The initial key of v: the diagram's distance, which a candidate must beat to enter the cell. A
-  /// bound that is not > 0 (a node's +0, a foreign -0, NaN) admits no candidate.
-  T bound(index_t v) const noexcept { return dist_[v] > T(0) ? dist_[v] : T(0); }
+  /// bound that is not > 0 (a node's +0, a foreign -0, NaN), and a voxel outside the domain, admit no
+  /// candidate (the engines test the domain before the metric; a bound of 0 rejects the same voxels
+  /// before reading anything else).
+  T bound(index_t v) const noexcept {
+    return dist_[v] > T(0) && detail::inside<typename P::metric_type>(p_.field[v]) ? dist_[v] : T(0);
+  }
+  /// Key and field side by side: a relaxation reads one cache line per neighbour.
+  struct slot {
+    T key;
+    T field;
+  };
 
   void search(index_t q) {
     if (!(T(0) < dist_[q])) return;  // a query on a node has an empty cell
-    const T* field = p_.field;
-    T* key = key_.data();
+    slot* key = key_.data();
     std::size_t live = 0;
     if (!(pw_ && seed_from_table(q, live))) {
-      key[q] = T(0);
+      key[q].key = T(0);
       heap_.push(kt::make(T(0), 0), q);
       live = 1;
     }
@@ -103,19 +111,18 @@ class fused_query {
       --live;
       const index_t v = it.voxel;
       const T dv = kt::distance(it.key);
-      if (dv != key[v]) continue;  // stale: v was queued again with a smaller distance
+      if (dv != key[v].key) continue;  // stale: v was queued again with a smaller distance
       cell_.push_back(v);
-      const T fv = field[v];
+      const T fv = key[v].field;
       walk_.for_each_neighbour(v, [&](int k, index_t u) {
-        const T ku = key[u];
-        if (!(dv < ku)) return;  // settled, or out of reach (the candidate cannot beat ku)
-        const T fu = field[u];
-        if (!detail::inside<typename P::metric_type>(fu)) return;
-        const T w = p_.metric(p_.edges.length[k], fv, fu);
+        slot& su = key[u];
+        const T ku = su.key;
+        if (!(dv < ku)) return;  // settled, out of reach, or outside the domain (bound 0)
+        const T w = p_.metric(p_.edges.length[k], fv, su.field);
         if (!(w >= T(0))) fused_bad_weight(double(w));
         const T nd = dv + w;
         if (nd < ku) {
-          key[u] = nd;
+          su.key = nd;
           heap_.push(kt::make(nd, 0), u);
           if (++live > heap_peak_) heap_peak_ = live;
         }
@@ -152,7 +159,7 @@ class fused_query {
       lo[a] = std::max<index_t>(0, qc[a] - (m - 1));
       hi[a] = std::min<index_t>(ext[a] - 1, qc[a] + (m - 1));
     }
-    T* key = key_.data();
+    slot* key = key_.data();
     for (index_t z = lo[2]; z <= hi[2]; ++z) {
       const index_t oz = z > qc[2] ? z - qc[2] : qc[2] - z;
       const index_t iz = std::min(oz + 1, ext[2] - 1);
@@ -167,8 +174,8 @@ class fused_query {
           const T l = row[ox];
           if (!(l < r)) continue;  // outside the ball
           const index_t v = base + x;
-          if (!(l < key[v])) continue;  // not in the cell (key[v] is still its bound)
-          key[v] = l;
+          if (!(l < key[v].key)) continue;  // not in the cell (key[v] is still its bound)
+          key[v].key = l;
           if (next[std::min(ox + 1, ext[0] - 1)] < r) {
             cell_.push_back(v);  // its whole neighbourhood is in the ball: exact already
           } else {
@@ -184,18 +191,18 @@ class fused_query {
 
   bool facets(const std::vector<face<P::dim>>& faces, accumulators& acc) const {
     bool any_facet = false;
-    const T* key = key_.data();
+    const slot* key = key_.data();
     for (index_t v : cell_) {
       const auto c = p_.geometry.coords(v);
       const T fv = p_.field[v];
-      const T dq = key[v];
+      const T dq = key[v].key;
       for (const auto& f : faces) {
         if (!face_in_grid(p_, c, f)) continue;
         const index_t w = v + f.delta;
         if (!p_.inside(w)) continue;
         const label_t k = lab_[w];
         if (k == no_label) continue;
-        if (key[w] < bound(w)) continue;  // w is in the cell too
+        if (key[w].key < bound(w)) continue;  // w is in the cell too
         acc.touch(k);
         ++acc.faces[k][f.axis];
         any_facet = true;
@@ -213,7 +220,7 @@ class fused_query {
   const T* dist_;
   const label_t* lab_;
   const piecewise_tables<P>* pw_;
-  std::vector<T> key_;
+  std::vector<slot> key_;
   std::vector<index_t> cell_;
   radix_heap<T> heap_;
   std::size_t heap_peak_ = 0;
