@@ -214,3 +214,13 @@ TEST_CASE("phantom: mri_like is a masked, noisy body whose values span three dec
 }
 
 }  // namespace
+
+TEST_CASE("phantom: two_material_beam is soft in the first half of z, stiff in the second") {
+  const gv::grid<3> g({4, 3, 10});
+  const auto f = gv::phantom::two_material_beam(g, 2.0f, 7.0f);
+  for (gv::index_t v = 0; v < g.size(); ++v) CHECK(f[v] == (g.coords(v)[2] < 5 ? 2.0f : 7.0f));
+  const gv::grid<2> g2({3, 5});
+  const auto f2 = gv::phantom::two_material_beam(g2);
+  CHECK(f2[g2.index({0, 1})] == 1.0e4f);
+  CHECK(f2[g2.index({2, 2})] == 1.0e5f);
+}

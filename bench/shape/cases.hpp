@@ -3,13 +3,20 @@
 //   table1       100x40x20 voxels, constant field, 20 nodes (phantom::spread_seeds), uniform metric,
 //                26-connected, weights for all 80,000 voxels (Toss et al. 2016, Table 1 setting)
 //   128cube_100  128^3 voxels, constant field, 100 nodes, uniform metric, 26-connected (Distance Ratio)
-//   steak        128x96x32 steak phantom, 12 nodes, min_stiffness metric, 26-connected
+//   steak128     128x96x32 steak phantom (the demo's), 12 nodes, min_stiffness metric, 26-connected
+//   steak64      the same phantom at 64x48x16 (quick guide for the steak128 figures)
+//   beam         20x20x100 two-material bar (phantom::two_material_beam), 5 nodes, min_stiffness, 26
+//   at1000       shape_functions_at on steak128 at 1000 random inside voxels (phantom::random_seeds)
 // The diagram is computed once outside the timed region; one iteration = one shape_functions() call.
+// Counters: peak_rss_MB is the process's peak resident set so far (run one case per process for its
+// own figure); scratch_MB and visits_per_query come from shape_options::stats.
 #pragma once
 #include <benchmark/benchmark.h>
 #include <geovoronoi.hpp>
 
 #include <cstdlib>
+#include <sys/resource.h>
+
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,10 +28,36 @@ inline const char* method_name(gv::shape_method m) {
   return m == gv::shape_method::sibson ? "sibson" : m == gv::shape_method::laplace ? "laplace" : "distance_ratio";
 }
 
+inline double peak_rss_mb() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_maxrss) / 1024.0;
+}
+
+/**
+ * The sequential backend without its opt-in to fused host queries: Sibson and Laplace then take the
+ * path that materialises every cell through insert_queries and re-reads it (the code before the fused
+ * search), so one benchmark run can compare the two.
+ */
+struct materialise_seq_t {};
+template <class P, class S, class O>
+auto backend_solve(materialise_seq_t, const P& p, const S& s, const O& o) {
+  return backend_solve(gv::seq, p, s, o);
+}
+template <class P, class S, class R>
+auto backend_bounded(materialise_seq_t, const P& p, const S& s, R radius) {
+  return backend_bounded(gv::seq, p, s, radius);
+}
+template <class P, class D>
+auto backend_insert_queries(materialise_seq_t, const P& p, const D& d, const std::vector<gv::index_t>& q) {
+  return backend_insert_queries(gv::seq, p, d, q);
+}
+
 struct volume {
   gv::grid<3> g;
   gv::image<float, 3> field;
   std::vector<gv::coord<3>> nodes;
+  std::vector<gv::coord<3>> points;  // at1000 only
 };
 
 inline std::shared_ptr<volume> make_case(const std::string& name) {
@@ -32,56 +65,75 @@ inline std::shared_ptr<volume> make_case(const std::string& name) {
     const gv::grid<3> g({100, 40, 20});
     auto f = gv::phantom::constant(g);
     auto s = gv::phantom::spread_seeds(f, 20);
-    return std::make_shared<volume>(volume{g, std::move(f), std::move(s)});
+    return std::make_shared<volume>(volume{g, std::move(f), std::move(s), {}});
   }
   if (name == "128cube_100") {
     const gv::grid<3> g({128, 128, 128});
     auto f = gv::phantom::constant(g);
     auto s = gv::phantom::spread_seeds(f, 100);
-    return std::make_shared<volume>(volume{g, std::move(f), std::move(s)});
+    return std::make_shared<volume>(volume{g, std::move(f), std::move(s), {}});
   }
-  const gv::grid<3> g({128, 96, 32});
+  if (name == "beam") {
+    const gv::grid<3> g({20, 20, 100});
+    auto f = gv::phantom::two_material_beam(g);
+    auto s = gv::phantom::spread_seeds(f, 5);
+    return std::make_shared<volume>(volume{g, std::move(f), std::move(s), {}});
+  }
+  const gv::grid<3> g = name == "steak64" ? gv::grid<3>({64, 48, 16}) : gv::grid<3>({128, 96, 32});
   auto f = gv::phantom::steak(g);
   auto s = gv::phantom::spread_seeds(f, 12);
-  return std::make_shared<volume>(volume{g, std::move(f), std::move(s)});
+  std::vector<gv::coord<3>> pts;
+  if (name == "at1000") pts = gv::phantom::random_seeds(f, 1000, 2026);
+  return std::make_shared<volume>(volume{g, std::move(f), std::move(s), std::move(pts)});
 }
 
 template <class Metric, class Policy>
-void run_case(benchmark::State& state, Policy policy, std::shared_ptr<volume> c, gv::shape_method m) {
+void run_case(benchmark::State& state, Policy policy, std::shared_ptr<volume> c, gv::shape_method m, bool reuse) {
   const auto p = gv::make_problem(c->g, c->field, Metric{}, gv::connectivity<26>{});
-  const auto d = gv::voronoi(policy, p, c->nodes);
+  const auto d = gv::voronoi(gv::seq, p, c->nodes);
   gv::index_t reached = 0;
   for (gv::index_t v = 0; v < c->g.size(); ++v) reached += d.label[v] != gv::no_label;
   gv::shape_options o;
   o.method = m;
+  o.reuse_constant_regions = reuse;
+  gv::shape_stats stats;
+  o.stats = &stats;
   for (auto _ : state) {
-    auto w = gv::shape_functions(policy, p, d, o);
-    benchmark::DoNotOptimize(w.weight.data());
+    if (c->points.empty()) {
+      auto w = gv::shape_functions(policy, p, d, o);
+      benchmark::DoNotOptimize(w.weight.data());
+    } else {
+      auto w = gv::shape_functions_at(policy, p, d, c->points, o);
+      benchmark::DoNotOptimize(w.weight.data());
+    }
   }
   state.counters["nodes"] = double(c->nodes.size());
-  state.counters["voxels"] = double(reached);
-  state.counters["voxels_per_s"] =
-      benchmark::Counter(double(reached) * double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["voxels"] = double(c->points.empty() ? reached : gv::index_t(c->points.size()));
+  state.counters["peak_rss_MB"] = peak_rss_mb();
+  state.counters["scratch_MB"] = double(stats.peak_scratch_bytes) / 1048576.0;
+  state.counters["visits_per_query"] = stats.queries ? double(stats.voxels_visited) / double(stats.queries) : 0.0;
 }
 
-/// Registers every case for one backend.
+/// Registers every case for one backend (@p with_uniform: also the constant-field cases; @p reuse:
+/// shape_options::reuse_constant_regions).
 template <class Policy>
-void register_cases(Policy policy, const std::string& backend) {
+void register_cases(Policy policy, const std::string& backend, bool with_uniform = true, bool reuse = true) {
   const auto methods = {gv::shape_method::distance_ratio, gv::shape_method::sibson, gv::shape_method::laplace};
   // smoke mode (GEOVORONOI_BENCH_SMOKE, see bench/common.hpp): the small Table 1 case only; the steak's
   // Sibson alone takes minutes
   const bool smoke = std::getenv("GEOVORONOI_BENCH_SMOKE") != nullptr;
-  for (const std::string name : {"table1", "128cube_100", "steak"})
+  for (const std::string name : {"table1", "128cube_100", "beam", "steak64", "at1000", "steak128"})
     for (auto m : methods) {
       if (smoke && name != "table1") continue;
       if (name == "128cube_100" && m != gv::shape_method::distance_ratio) continue;
+      if (!with_uniform && (name == "table1" || name == "128cube_100")) continue;
       const std::string id = std::string("shape/") + method_name(m) + "/" + backend + "/" + name;
-      auto b = benchmark::RegisterBenchmark(id.c_str(), [policy, name, m](benchmark::State& st) {
+      auto b = benchmark::RegisterBenchmark(id.c_str(), [policy, name, m, reuse](benchmark::State& st) {
         auto c = make_case(name);
-        if (name == "steak")
-          run_case<gv::min_stiffness>(st, policy, c, m);
+        if (name == "table1" || name == "128cube_100")
+          run_case<gv::uniform>(st, policy, c, m, reuse);
         else
-          run_case<gv::uniform>(st, policy, c, m);
+          run_case<gv::min_stiffness>(st, policy, c, m, reuse);
       });
       b->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
     }

@@ -1,8 +1,9 @@
 #pragma once
 /// @file phantom.hpp
 /// @brief Procedural stiffness volumes used by the benchmarks, the tests and the demo: constant,
-///        gradient (1 -> 10 along x), a T-bone-steak phantom (meat, fat, bone, background) and a
-///        noisy MRI-like pelvis (mri_like: tissues over three decades of values, masked background).
+///        gradient (1 -> 10 along x), a two-material beam, a T-bone-steak phantom (meat, fat, bone,
+///        background) and a noisy MRI-like pelvis (mri_like: tissues over three decades of values,
+///        masked background).
 
 #include <geovoronoi/grid.hpp>
 #include <geovoronoi/image.hpp>
@@ -35,6 +36,17 @@ image<float, Dim> gradient(const grid<Dim>& g, float lo = 1.0f, float hi = 10.0f
   image<float, Dim> f(g);
   const double nx = double(std::max<index_t>(g.extent(0) - 1, 1));
   for (index_t v = 0; v < g.size(); ++v) f[v] = float(lo + (hi - lo) * double(g.coords(v)[0]) / nx);
+  return f;
+}
+
+/// A bar of two materials (the setting of SOFA's beam.mhd, 20x20x100 voxels): stiffness @p soft for
+/// the first half of the last axis (z < extent / 2), @p stiff for the rest. Every voxel is inside the
+/// domain; the field is piecewise constant, so the problem is not translation-invariant.
+template <int Dim>
+image<float, Dim> two_material_beam(const grid<Dim>& g, float soft = 1.0e4f, float stiff = 1.0e5f) {
+  image<float, Dim> f(g);
+  const index_t half = g.extent(Dim - 1) / 2;
+  for (index_t v = 0; v < g.size(); ++v) f[v] = g.coords(v)[Dim - 1] < half ? soft : stiff;
   return f;
 }
 

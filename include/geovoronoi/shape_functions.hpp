@@ -36,6 +36,20 @@ enum class shape_method {
   laplace
 };
 
+/// What a shape_functions() call did, filled when shape_options::stats points to one.
+struct shape_stats {
+  /// Worker scratches the Sibson/Laplace query loop created (at most the backend's threads, fewer
+  /// when the memory budget allows fewer).
+  std::size_t workers = 0;
+  /// Largest total bytes held at once by the query loop's scratch: on host backends the workers'
+  /// key arrays, cell lists and queues; on others the batch of materialised cells.
+  std::size_t peak_scratch_bytes = 0;
+  /// Voxels the queries' searches settled (the sum of the new cells' sizes).
+  std::size_t voxels_visited = 0;
+  /// Queries searched (voxels with d > 0 whose weights come from a new cell).
+  std::size_t queries = 0;
+};
+
 /// Options of shape_functions().
 struct shape_options {
   /// The method.
@@ -46,6 +60,17 @@ struct shape_options {
   /// Queries per backend call (Sibson, Laplace). Must be >= 1. Memory grows with batch_size times the
   /// typical size of a query's new cell.
   std::size_t batch_size = 4096;
+  /// Bytes the Sibson/Laplace query loop may hold in scratch at once. On host backends (seq, Thrust on
+  /// host systems) each worker is budgeted about 32 bytes per voxel of the grid (float); fewer workers run when the budget
+  /// does not allow one per thread, and a budget below one worker throws std::invalid_argument. On
+  /// other backends it caps the queries per batch from the cell sizes seen so far.
+  std::size_t memory_budget = std::size_t(1) << 30;
+  /// Sibson/Laplace on host backends: fill the part of a query's new cell that lies in an exact ball of
+  /// its constant-field region from a distance table instead of searching it (piecewise.hpp). The
+  /// weights are bitwise the same either way; false is for comparisons.
+  bool reuse_constant_regions = true;
+  /// Optional: filled with statistics of the call (see shape_stats).
+  shape_stats* stats = nullptr;
   /// Optional progress callback, called between backend calls with the fraction done in [0, 1];
   /// returning false cancels the computation, which then throws geovoronoi::cancelled.
   std::function<bool(double)> progress;
@@ -74,9 +99,33 @@ struct shape_weights {
   /// geometry.size() * k weights, 0 for an empty slot.
   std::vector<T> weight;
 
-  /// @brief The weights as a voxels x nodes row-major sparse matrix (one row per voxel, empty rows
-  ///        outside the domain); rows sum to 1 inside the domain.
-  Eigen::SparseMatrix<float, Eigen::RowMajor> to_sparse_matrix() const;
+  /// @brief The weights as a voxels x nodes row-major sparse matrix in the weight type T (one row per
+  ///        voxel, empty rows outside the domain); rows sum to 1 inside the domain.
+  Eigen::SparseMatrix<T, Eigen::RowMajor> to_sparse_matrix() const;
+};
+
+/**
+ * @brief Shape-function weights at chosen points (shape_functions_at()), K fixed-stride slots per
+ *        point, in the same layout as shape_weights: slot s of point i at index i * k + s.
+ */
+template <class T>
+struct point_weights {
+  /// Number of points (rows of to_sparse_matrix()).
+  std::size_t points = 0;
+  /// Slots per point (K).
+  int k = 0;
+  /// Number of nodes (columns of to_sparse_matrix()).
+  std::size_t nodes = 0;
+  /// The voxel (linear index) each point was evaluated at.
+  std::vector<index_t> voxel;
+  /// points * k node indices (0-based), -1 for an empty slot.
+  std::vector<label_t> node;
+  /// points * k weights, 0 for an empty slot.
+  std::vector<T> weight;
+
+  /// @brief The weights as a points x nodes row-major sparse matrix in T (an empty row for a point on a
+  ///        masked or unreachable voxel).
+  Eigen::SparseMatrix<T, Eigen::RowMajor> to_sparse_matrix() const;
 };
 
 /**
@@ -105,6 +154,34 @@ template <class Policy, class P>
 shape_weights<typename P::value_type, P::dim> shape_functions(const Policy& policy, const P& problem,
                                                               const diagram<typename P::value_type, P::dim>& d,
                                                               const shape_options& opt = {});
+
+/**
+ * @brief Shape functions of the diagram's nodes at chosen voxels only.
+ *
+ * Row i holds exactly (bit for bit) the slots that shape_functions() computes at voxel @p points[i]:
+ * Sibson and Laplace run only those points' queries; Distance Ratio runs its per-node solves (they
+ * are needed for any point in a node's support) and keeps the points' rows. A point on a masked or
+ * unreachable voxel gets an empty row; a point may appear several times.
+ *
+ * @param points voxel coordinates.
+ * @throws std::invalid_argument for a point outside the grid, and as shape_functions().
+ */
+template <class Policy, class P>
+point_weights<typename P::value_type> shape_functions_at(const Policy& policy, const P& problem,
+                                                         const diagram<typename P::value_type, P::dim>& d,
+                                                         const std::vector<coord<P::dim>>& points,
+                                                         const shape_options& opt = {});
+
+/**
+ * @brief shape_functions_at() at world points, each rounded to the nearest voxel centre (as
+ *        seeds_from_world: grid::nearest_voxel, floor(x + 0.5) per axis, so halves round up).
+ * @throws std::invalid_argument for a point whose nearest voxel centre lies outside the grid.
+ */
+template <class Policy, class P>
+point_weights<typename P::value_type> shape_functions_at(const Policy& policy, const P& problem,
+                                                         const diagram<typename P::value_type, P::dim>& d,
+                                                         const std::vector<point<P::dim>>& world_points,
+                                                         const shape_options& opt = {});
 
 /**
  * @brief Values at every voxel interpolated from values at the nodes: row v = sum over the slots of

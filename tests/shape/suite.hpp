@@ -492,3 +492,5 @@ TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: bad inputs and c
 }
 
 }  // namespace gvshape
+
+#include "shape/piecewise_and_points.hpp"

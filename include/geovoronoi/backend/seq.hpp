@@ -111,6 +111,10 @@ query_cells<typename P::value_type> backend_insert_queries(seq_t policy, const P
       [&](auto& s) { return detail::seq::insert_queries(p, s, d, queries); });
 }
 
+/// The shape functions may run their insert-queries as fused host searches on this backend (its
+/// engine is a host Dijkstra anyway): see detail/shape/fused_query.hpp.
+inline std::true_type backend_queries_on_host(seq_t) { return {}; }
+
 /// The sequential backend's policy object: `geovoronoi::voronoi(geovoronoi::seq, ...)`.
 inline constexpr seq_t seq{};
 

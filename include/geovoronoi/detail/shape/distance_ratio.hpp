@@ -149,7 +149,10 @@ void distance_ratio(const Policy& policy, const P& p, const D& d, const Options&
     for (label_t i = g0; i < g1; ++i) {
       for (const auto& [x, wx] : contrib[std::size_t(i - g0)])
         insert_slot(w.node.data() + std::size_t(x) * k, raw.data() + std::size_t(x) * k, k, i, wx);
-      report(opt.progress, double(i + 1) / double(nodes));
+      // progress by work: a node's searches cover its cell and support, so its cell's size stands
+      // for its share of the work (not 1 / nodes: cells can differ by orders of magnitude)
+      report(opt.progress, start.back() > 0 ? double(start[std::size_t(i) + 1]) / double(start.back())
+                                            : double(i + 1) / double(nodes));
     }
   }
   // 5. normalise the kept weights of every reached voxel

@@ -5,11 +5,17 @@
 
 #include <geovoronoi/detail/shape/common.hpp>
 #include <geovoronoi/detail/shape/host_parallel.hpp>
+#include <geovoronoi/detail/shape/fused_query.hpp>
+#include <geovoronoi/detail/shape/scratch_pool.hpp>
 #include <geovoronoi/detail/shape/translation_invariant.hpp>
 #include <geovoronoi/detail/dispatch.hpp>
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <memory>
+#include <stdexcept>
+#include <string>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -123,62 +129,203 @@ struct query_scratch {
 /// balance cells of very different sizes.
 inline constexpr std::size_t queries_per_task = 64;
 
-template <class Policy, class P, class D, class W, class Options>
-void natural_neighbours(const Policy& policy, const P& p, const D& d, const Options& opt, bool laplace, W& w) {
+/// One worker of the fused query loop: its search scratch and its accumulators.
+template <class P>
+struct fused_worker {
+  fused_query<P> search;
+  query_scratch<typename P::value_type> s;
+  std::size_t peak = 0;  // largest bytes() seen
+  fused_worker(const P& p, const typename P::value_type* dist, const label_t* lab, std::size_t nodes,
+               const piecewise_tables<P>* pw)
+      : search(p, dist, lab, pw), s(nodes) {}
+  std::size_t bytes() const noexcept {
+    return search.bytes() + s.acc.volume.capacity() * (sizeof(std::int64_t) * 4 + sizeof(double) + 1 + sizeof(label_t));
+  }
+};
+
+/// Bytes one fused worker is budgeted: its key array, room for a cell list of the whole grid and a
+/// queue of half the grid (cells stay far below that on real problems), the per-node accumulators.
+template <class P>
+std::size_t fused_worker_budget(const P& p, std::size_t nodes) {
   using T = typename P::value_type;
-  const index_t n = p.geometry.size();
-  const int k = w.k;
+  const std::size_t n = std::size_t(p.geometry.size());
+  return fused_query<P>::dense_bytes(p) + n * sizeof(index_t) + n / 2 * sizeof(typename radix_heap<T>::item) +
+         nodes * 64 + 65536;
+}
+
+/**
+ * Sibson/Laplace on a host backend: each query is one fused search (fused_query.hpp), run in tasks of
+ * queries_per_task on the backend's host threads, with at most memory_budget / fused_worker_budget
+ * worker scratches alive. Progress is reported as voxels visited over an estimate of the total: the
+ * first query of every group of queries_per_task runs first (a systematic sample), and each group's
+ * remaining queries are estimated at its sample's cell size.
+ */
+template <class Policy, class P, class D, class Options, class Write>
+void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, const Options& opt, bool laplace,
+                              std::size_t nodes, const std::vector<index_t>& queries, const index_t* voxel_of,
+                              Write&& write) {
+  using T = typename P::value_type;
   const auto faces = faces_of(p);
-  std::vector<index_t> queries;
-  for (index_t v = 0; v < n; ++v) {
+  const std::size_t per_worker = fused_worker_budget(p, nodes);
+  if (opt.memory_budget < per_worker)
+    throw std::invalid_argument("geovoronoi::shape_functions: memory_budget is " + std::to_string(opt.memory_budget) +
+                                " bytes, but one query worker on this grid needs " + std::to_string(per_worker));
+  const T* dist = d.distance.data();
+  const label_t* lab = d.label.data();
+  // exact balls on constant regions (piecewise.hpp): a few small table solves, 3 bytes per voxel
+  std::unique_ptr<piecewise_tables<P>> pw;
+  if (opt.reuse_constant_regions) {
+    pw = std::make_unique<piecewise_tables<P>>(policy, p);
+    if (pw->empty() || pw->bytes() + per_worker > opt.memory_budget) pw.reset();
+  }
+  const std::size_t shared = pw ? pw->bytes() : 0;
+  scratch_pool<fused_worker<P>> pool((opt.memory_budget - shared) / per_worker, [&] {
+    return std::make_unique<fused_worker<P>>(p, dist, lab, nodes, pw.get());
+  });
+  const std::size_t total = queries.size();
+  const std::size_t group = queries_per_task;
+  const std::size_t groups = (total + group - 1) / group;
+  std::vector<std::size_t> sample(groups, 0);  // cell size of each group's first query
+  std::atomic<std::size_t> visited_total{0};
+  auto one = [&](fused_worker<P>& wk, std::size_t i) {
+    std::size_t visited = 0;
+    const bool any_facet = wk.search.run(voxel_of[queries[i]], laplace, faces, wk.s.acc, visited);
+    write(queries[i], wk.s, any_facet);
+    const std::size_t b = wk.bytes();
+    if (b > wk.peak) wk.peak = b;
+    return visited;
+  };
+  // 1. the sample: the first query of every group
+  for (std::size_t g0 = 0; g0 < groups; g0 += opt.batch_size) {
+    const std::size_t g1 = std::min(groups, g0 + opt.batch_size);
+    host_parallel_for(policy, index_t((g1 - g0 + group - 1) / group), [&](index_t t) {
+      auto wk = pool.acquire();
+      const std::size_t b = g0 + std::size_t(t) * group, e = std::min(g1, b + group);
+      std::size_t sum = 0;
+      for (std::size_t g = b; g < e; ++g) sum += sample[g] = one(*wk, g * group);
+      visited_total += sum;
+    });
+  }
+  // estimated work of the queries not yet run, group by group
+  double remaining = 0;
+  for (std::size_t g = 0; g < groups; ++g)
+    remaining += double(sample[g]) * double(std::min(total, (g + 1) * group) - g * group - 1);
+  auto fraction = [&] {
+    const double done = double(visited_total.load());
+    return done + remaining > 0 ? done / (done + remaining) : 1.0;
+  };
+  report(opt.progress, fraction());
+  // 2. the rest, group by group (consecutive queries are neighbours: their searches share the cache)
+  const std::size_t groups_per_batch = std::max<std::size_t>(1, opt.batch_size / group);
+  for (std::size_t g0 = 0; g0 < groups; g0 += groups_per_batch) {
+    const std::size_t g1 = std::min(groups, g0 + groups_per_batch);
+    host_parallel_for(policy, index_t(g1 - g0), [&](index_t t) {
+      auto wk = pool.acquire();
+      const std::size_t g = g0 + std::size_t(t);
+      const std::size_t e = std::min(total, (g + 1) * group);
+      std::size_t sum = 0;
+      for (std::size_t i = g * group + 1; i < e; ++i) sum += one(*wk, i);
+      visited_total += sum;
+    });
+    for (std::size_t g = g0; g < g1; ++g)
+      remaining -= double(sample[g]) * double(std::min(total, (g + 1) * group) - g * group - 1);
+    if (g1 == groups) remaining = 0;
+    report(opt.progress, fraction());
+  }
+  if (opt.stats) {
+    std::size_t peak = 0;
+    pool.for_each([&](const fused_worker<P>& wk) { peak += wk.peak; });
+    opt.stats->workers = pool.created();
+    opt.stats->peak_scratch_bytes = peak + shared;
+    opt.stats->voxels_visited = visited_total.load();
+    opt.stats->queries = total;
+  }
+}
+
+/// Bytes of a batch of materialised cells.
+template <class T>
+std::size_t cells_bytes(const query_cells<T>& c) {
+  return c.voxel.capacity() * sizeof(index_t) + c.distance.capacity() * sizeof(T) +
+         c.owner.capacity() * sizeof(label_t) + (c.query.capacity() + c.offsets.capacity()) * sizeof(index_t);
+}
+
+/**
+ * Sibson (laplace = false) or Laplace weights of the voxels voxel_of[0, rows), row r written to slots
+ * [r * k, r * k + k) of @p node and @p weight (which start empty: -1 and 0). A voxel may appear in
+ * several rows; each row is computed on its own, with the same arithmetic as every other row.
+ */
+template <class Policy, class P, class D, class Options>
+void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const Options& opt, bool laplace,
+                            const index_t* voxel_of, std::size_t rows, int k, std::size_t nodes, label_t* node,
+                            typename P::value_type* weight) {
+  using T = typename P::value_type;
+  const auto faces = faces_of(p);
+  std::vector<index_t> queries;  // rows whose weights come from a new cell
+  for (std::size_t r = 0; r < rows; ++r) {
+    const index_t v = voxel_of[r];
     const label_t l = d.label[v];
     if (l == no_label) continue;
     if (d.distance[v] > T(0)) {
-      queries.push_back(v);
+      queries.push_back(index_t(r));
     } else {  // a node (or a voxel at distance 0 from it): its cell is empty, Kronecker delta
-      w.node[std::size_t(v) * k] = l;
-      w.weight[std::size_t(v) * k] = T(1);
+      node[r * std::size_t(k)] = l;
+      weight[r * std::size_t(k)] = T(1);
     }
   }
   const std::size_t total = queries.size();
-  auto write = [&](index_t q, query_scratch<T>& s, bool any_facet) {
+  auto write = [&](index_t row, query_scratch<T>& s, bool any_facet) {
     finish_weights(p, faces, laplace, any_facet, s.acc, s.cand);
-    const std::size_t at = std::size_t(q) * std::size_t(k);
+    const std::size_t at = std::size_t(row) * std::size_t(k);
     if (s.cand.empty()) {  // defensive: only a voxel at distance 0 has an empty cell
-      w.node[at] = d.label[q];
-      w.weight[at] = T(1);
+      node[at] = d.label[voxel_of[row]];
+      weight[at] = T(1);
       return;
     }
-    store(s.cand, k, w.node.data() + at, w.weight.data() + at);
+    store(s.cand, k, node + at, weight + at);
   };
   // Each task owns its scratch and writes only its queries' slots.
   auto tasks = [](std::size_t count) { return index_t((count + queries_per_task - 1) / queries_per_task); };
 
-  if (translation_invariant(p)) {
+  if (total > 0 && translation_invariant(p)) {
     // exact shortcut (translation_invariant.hpp): one backend solve, then every query is a box scan
     const offset_table<P> tab(policy, p);
     for (std::size_t start = 0; start < total; start += opt.batch_size) {
       const std::size_t end = std::min(total, start + opt.batch_size);
       host_parallel_for(policy, tasks(end - start), [&](index_t t) {
-        query_scratch<T> s(w.nodes);
+        query_scratch<T> s(nodes);
         const std::size_t b = start + std::size_t(t) * queries_per_task;
         const std::size_t e = std::min(end, b + queries_per_task);
         for (std::size_t i = b; i < e; ++i) {
           bool any_facet = false;
-          accumulate_offset(tab, d, faces, laplace, queries[i], s.acc, s.mask, s.members, any_facet);
+          accumulate_offset(tab, d, faces, laplace, voxel_of[queries[i]], s.acc, s.mask, s.members, any_facet);
           write(queries[i], s, any_facet);
         }
       });
       report(opt.progress, double(end) / double(total));
     }
+    if (opt.stats) opt.stats->queries = total;
+  } else if constexpr (queries_on_host<Policy>::value) {
+    if (total > 0) fused_natural_neighbours(policy, p, d, opt, laplace, nodes, queries, voxel_of, write);
   } else {
+    // a device backend: batches of materialised cells, as many queries per batch as the memory budget
+    // allows at the cell sizes seen so far
     std::vector<index_t> batch;
-    for (std::size_t start = 0; start < total; start += opt.batch_size) {
-      const std::size_t end = std::min(total, start + opt.batch_size);
-      batch.assign(queries.begin() + std::ptrdiff_t(start), queries.begin() + std::ptrdiff_t(end));
-      const auto cells = dispatch::insert_queries(policy, p, d, batch);  // reached voxels: valid queries
+    std::size_t bytes_per_query = 0, peak = 0, visited = 0;
+    for (std::size_t start = 0; start < total;) {
+      std::size_t size = opt.batch_size;
+      if (bytes_per_query > 0) size = std::max<std::size_t>(1, std::min(size, opt.memory_budget / bytes_per_query));
+      const std::size_t end = std::min(total, start + size);
+      batch.clear();
+      for (std::size_t i = start; i < end; ++i) batch.push_back(voxel_of[queries[i]]);
+      const auto cells = dispatch::insert_queries(policy, p, d, batch);
+      if (cells.size() != batch.size())
+        throw std::logic_error("geovoronoi::shape_functions: the backend returned a cell count that differs from the batch");
+      const std::size_t bytes = cells_bytes(cells);
+      peak = std::max(peak, bytes);
+      visited += cells.voxel.size();
+      bytes_per_query = std::max(bytes_per_query, bytes / std::max<std::size_t>(1, end - start) + 1);
       host_parallel_for(policy, tasks(cells.size()), [&](index_t t) {
-        query_scratch<T> s(w.nodes);
+        query_scratch<T> s(nodes);
         const std::size_t b = std::size_t(t) * queries_per_task;
         const std::size_t e = std::min(cells.size(), b + queries_per_task);
         for (std::size_t i = b; i < e; ++i) {
@@ -186,13 +333,29 @@ void natural_neighbours(const Policy& policy, const P& p, const D& d, const Opti
           const bool any_facet = accumulate_cell(p, d, faces, laplace, cells.voxel.data() + o,
                                                  cells.distance.data() + o, cells.owner.data() + o,
                                                  cells.cell_size(i), s.acc);
-          write(cells.query[i], s, any_facet);
+          write(queries[start + i], s, any_facet);
         }
       });
+      start = end;
       report(opt.progress, double(end) / double(total));
+    }
+    if (opt.stats) {
+      opt.stats->workers = 1;
+      opt.stats->peak_scratch_bytes = peak;
+      opt.stats->voxels_visited = visited;
+      opt.stats->queries = total;
     }
   }
   if (total == 0) report(opt.progress, 1.0);
+}
+
+/// Sibson or Laplace at every voxel of the grid, into @p w.
+template <class Policy, class P, class D, class W, class Options>
+void natural_neighbours(const Policy& policy, const P& p, const D& d, const Options& opt, bool laplace, W& w) {
+  std::vector<index_t> all(std::size_t(p.geometry.size()));
+  for (std::size_t v = 0; v < all.size(); ++v) all[v] = index_t(v);
+  natural_neighbour_rows(policy, p, d, opt, laplace, all.data(), all.size(), w.k, w.nodes, w.node.data(),
+                         w.weight.data());
 }
 
 }  // namespace geovoronoi::detail::shape

@@ -12,31 +12,44 @@
 
 namespace geovoronoi {
 
-template <class T, int Dim>
-Eigen::SparseMatrix<float, Eigen::RowMajor> shape_weights<T, Dim>::to_sparse_matrix() const {
-  using index = typename Eigen::SparseMatrix<float, Eigen::RowMajor>::StorageIndex;
-  const index_t rows = geometry.size();
-  if (rows > index_t(std::numeric_limits<index>::max()) || nodes > std::size_t(std::numeric_limits<index>::max()))
-    throw std::invalid_argument("geovoronoi::shape_weights::to_sparse_matrix: the grid has too many voxels for "
-                                "Eigen's 32-bit sparse indices");
-  if (node.size() != std::size_t(rows) * std::size_t(k) || weight.size() != node.size())
-    throw std::invalid_argument("geovoronoi::shape_weights::to_sparse_matrix: node/weight arrays do not hold "
-                                "geometry.size() * k entries");
-  Eigen::SparseMatrix<float, Eigen::RowMajor> m(static_cast<index>(rows), static_cast<index>(nodes));
+namespace detail::shape {
+/// Slots (rows x k, -1 empty) as a rows x nodes row-major sparse matrix in T.
+template <class T>
+Eigen::SparseMatrix<T, Eigen::RowMajor> slots_to_sparse(std::size_t rows, int k, std::size_t nodes,
+                                                        const std::vector<label_t>& node, const std::vector<T>& weight,
+                                                        const char* who) {
+  using index = typename Eigen::SparseMatrix<T, Eigen::RowMajor>::StorageIndex;
+  if (rows > std::size_t(std::numeric_limits<index>::max()) || nodes > std::size_t(std::numeric_limits<index>::max()))
+    throw std::invalid_argument(std::string(who) + ": too many rows for Eigen's 32-bit sparse indices");
+  if (k < 0 || node.size() != rows * std::size_t(k) || weight.size() != node.size())
+    throw std::invalid_argument(std::string(who) + ": node/weight arrays do not hold rows * k entries");
+  Eigen::SparseMatrix<T, Eigen::RowMajor> m(static_cast<index>(rows), static_cast<index>(nodes));
   Eigen::Matrix<index, Eigen::Dynamic, 1> per_row(static_cast<index>(rows));
-  for (index_t v = 0; v < rows; ++v) {
+  for (std::size_t v = 0; v < rows; ++v) {
     index c = 0;
-    for (int s = 0; s < k; ++s) c += node[std::size_t(v) * std::size_t(k) + std::size_t(s)] != no_label;
+    for (int s = 0; s < k; ++s) c += node[v * std::size_t(k) + std::size_t(s)] != no_label;
     per_row[static_cast<index>(v)] = c;
   }
   m.reserve(per_row);
-  for (index_t v = 0; v < rows; ++v)
+  for (std::size_t v = 0; v < rows; ++v)
     for (int s = 0; s < k; ++s) {
-      const std::size_t at = std::size_t(v) * std::size_t(k) + std::size_t(s);
-      if (node[at] != no_label) m.insert(static_cast<index>(v), static_cast<index>(node[at])) = float(weight[at]);
+      const std::size_t at = v * std::size_t(k) + std::size_t(s);
+      if (node[at] != no_label) m.insert(static_cast<index>(v), static_cast<index>(node[at])) = weight[at];
     }
   m.makeCompressed();
   return m;
+}
+}  // namespace detail::shape
+
+template <class T, int Dim>
+Eigen::SparseMatrix<T, Eigen::RowMajor> shape_weights<T, Dim>::to_sparse_matrix() const {
+  return detail::shape::slots_to_sparse(std::size_t(geometry.size()), k, nodes, node, weight,
+                                        "geovoronoi::shape_weights::to_sparse_matrix");
+}
+
+template <class T>
+Eigen::SparseMatrix<T, Eigen::RowMajor> point_weights<T>::to_sparse_matrix() const {
+  return detail::shape::slots_to_sparse(points, k, nodes, node, weight, "geovoronoi::point_weights::to_sparse_matrix");
 }
 
 template <class Policy, class P>
@@ -68,6 +81,67 @@ shape_weights<typename P::value_type, P::dim> shape_functions(const Policy& poli
                                   std::to_string(static_cast<int>(opt.method)));
   }
   return w;
+}
+
+template <class Policy, class P>
+point_weights<typename P::value_type> shape_functions_at(const Policy& policy, const P& problem,
+                                                         const diagram<typename P::value_type, P::dim>& d,
+                                                         const std::vector<coord<P::dim>>& points,
+                                                         const shape_options& opt) {
+  using T = typename P::value_type;
+  detail::shape::validate(problem, d, opt);
+  point_weights<T> w;
+  w.points = points.size();
+  w.k = opt.max_nodes_per_voxel;
+  w.nodes = d.seeds.size();
+  w.voxel.reserve(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!problem.geometry.contains(points[i])) {
+      std::string c;
+      for (int a = 0; a < P::dim; ++a) c += (a ? ", " : "") + std::to_string(points[i][std::size_t(a)]);
+      throw std::invalid_argument("geovoronoi::shape_functions_at: point " + std::to_string(i) + " (" + c +
+                                  ") lies outside the grid");
+    }
+    w.voxel.push_back(problem.geometry.index(points[i]));
+  }
+  const std::size_t slots = points.size() * std::size_t(w.k);
+  w.node.assign(slots, no_label);
+  w.weight.assign(slots, T(0));
+  switch (opt.method) {
+    case shape_method::distance_ratio: {
+      // the per-node solves serve every point of a node's support, so they run in full; the rows are
+      // then those of the full computation
+      auto full = shape_functions(policy, problem, d, opt);
+      for (std::size_t i = 0; i < points.size(); ++i)
+        for (int s = 0; s < w.k; ++s) {
+          const std::size_t from = std::size_t(w.voxel[i]) * std::size_t(w.k) + std::size_t(s);
+          w.node[i * std::size_t(w.k) + std::size_t(s)] = full.node[from];
+          w.weight[i * std::size_t(w.k) + std::size_t(s)] = full.weight[from];
+        }
+      break;
+    }
+    case shape_method::sibson:
+    case shape_method::laplace:
+      detail::shape::natural_neighbour_rows(policy, problem, d, opt, opt.method == shape_method::laplace,
+                                            w.voxel.data(), points.size(), w.k, w.nodes, w.node.data(),
+                                            w.weight.data());
+      break;
+    default:
+      throw std::invalid_argument("geovoronoi::shape_functions_at: unknown shape_method " +
+                                  std::to_string(static_cast<int>(opt.method)));
+  }
+  return w;
+}
+
+template <class Policy, class P>
+point_weights<typename P::value_type> shape_functions_at(const Policy& policy, const P& problem,
+                                                         const diagram<typename P::value_type, P::dim>& d,
+                                                         const std::vector<point<P::dim>>& world_points,
+                                                         const shape_options& opt) {
+  std::vector<coord<P::dim>> c;
+  c.reserve(world_points.size());
+  for (const auto& x : world_points) c.push_back(problem.geometry.nearest_voxel(x));
+  return shape_functions_at(policy, problem, d, c, opt);
 }
 
 template <class T, int Dim, class Derived>

@@ -180,5 +180,17 @@ void backend_host_parallel_for(const Pol& pol, index_t n, F&& f) {
   detail::host_parallel_for(detail::exec_of(pol), n, f);
 }
 
+/// Whether the shape functions may run insert-queries as fused host searches on this policy: on
+/// host systems (their insert-query is the sequential engine on host threads), not on CUDA.
+inline std::bool_constant<!detail::is_cuda_policy_v<std::decay_t<decltype(::thrust::device)>>> backend_queries_on_host(
+    const par_t&) {
+  return {};
+}
+/// @copydoc backend_queries_on_host
+template <class E>
+std::bool_constant<!detail::is_cuda_policy_v<E>> backend_queries_on_host(const par_on_t<E>&) {
+  return {};
+}
+
 }  // namespace thrust
 }  // namespace geovoronoi

@@ -1,0 +1,229 @@
+#pragma once
+// Fused count-only insert-query for Sibson and Laplace on the host (host backends: seq and the Thrust
+// host systems). The search from a query q is the same pruned Dijkstra as the engines' insert-query
+// (it enters v only if d_q(v) < d(v)), with the same float expression for every relaxation, so it
+// finds the same new cell C_q and the same d_q on it, bit for bit. But instead of materialising the
+// cell (voxel, distance, owner), sorting it and re-reading it, it counts while it goes:
+//
+//  * Sibson: each settled voxel adds one to its owner's volume.
+//  * Laplace: a facet pair (v in C_q, w not in C_q) can only be decided once the search has ended,
+//    since w may still enter the cell later. After the search, the keys in the scratch say it: w is in
+//    C_q iff its key fell below its initial bound. The pass runs over the cell list the search kept
+//    (it needs it anyway to reset its keys).
+//
+// Scratch: one dense key array of the grid's size per worker (distance only, not (distance, label):
+// insert-query carries one label, so comparing distances is comparing the engines' keys), reset
+// through the cell list, the radix heap and the cell list. Nothing is allocated per query once the
+// vectors have grown.
+
+#include <geovoronoi/config.hpp>
+#include <geovoronoi/detail/key.hpp>
+#include <geovoronoi/detail/radix_heap.hpp>
+#include <geovoronoi/detail/shape/common.hpp>
+#include <geovoronoi/detail/shape/piecewise.hpp>
+#include <geovoronoi/detail/stencil_walk.hpp>
+#include <geovoronoi/error.hpp>
+#include <geovoronoi/metric.hpp>
+
+#include <algorithm>
+#include <cstddef>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace geovoronoi::detail::shape {
+
+[[noreturn]] inline void fused_bad_weight(double w) {
+  throw metric_error("geovoronoi: the metric returned the edge weight " + std::to_string(w) +
+                     "; weights must be >= 0 and not NaN");
+}
+
+/// One worker's scratch for fused queries on problem P.
+template <class P>
+class fused_query {
+ public:
+  using T = typename P::value_type;
+  using kt = key_traits<T>;
+
+  /// Bytes of the dense part of one scratch (the key array), what a memory budget must allow per worker.
+  static std::size_t dense_bytes(const P& p) { return std::size_t(p.geometry.size()) * sizeof(slot); }
+
+  /// @p pw: tables for the exact balls of piecewise-constant regions (piecewise.hpp), or null.
+  fused_query(const P& p, const T* dist, const label_t* lab, const piecewise_tables<P>* pw = nullptr)
+      : p_(p), walk_(p), dist_(dist), lab_(lab), pw_(pw), key_(std::size_t(p.geometry.size())) {
+    const index_t n = p.geometry.size();
+    for (index_t v = 0; v < n; ++v) key_[std::size_t(v)] = {bound(v), p.field[v]};
+  }
+
+  /// Bytes this scratch holds now (keys, cell list, heap buckets are counted by their items).
+  std::size_t bytes() const noexcept {
+    return key_.capacity() * sizeof(slot) + cell_.capacity() * sizeof(index_t) + heap_peak_ * sizeof(typename radix_heap<T>::item);
+  }
+
+  /**
+   * Accumulates the new cell of query @p q (d(q) > 0) into @p acc (cleared first): volumes per owner,
+   * and for Laplace the facet faces per node and axis and h per node. Returns whether the cell has a
+   * facet pair; @p visited gets the number of voxels settled (the cell's size).
+   */
+  bool run(index_t q, bool laplace, const std::vector<face<P::dim>>& faces, accumulators& acc, std::size_t& visited) {
+    acc.clear();
+    cell_.clear();
+    heap_.clear();
+    search(q);
+    visited = cell_.size();
+    for (index_t v : cell_) {
+      const label_t o = lab_[v];
+      if (o < 0) continue;
+      acc.touch(o);
+      ++acc.volume[o];
+    }
+    bool any_facet = false;
+    if (laplace) any_facet = facets(faces, acc);
+    for (index_t v : cell_) key_[std::size_t(v)].key = bound(v);
+    return any_facet;
+  }
+
+ private:
+  /// The initial key of v: the diagram's distance, which a candidate must beat to enter the cell. A
+  /// bound that is not > 0 (a node's +0, a foreign -0, NaN), and a voxel outside the domain, admit no
+  /// candidate (the engines test the domain before the metric; a bound of 0 rejects the same voxels
+  /// before reading anything else).
+  T bound(index_t v) const noexcept {
+    return dist_[v] > T(0) && detail::inside<typename P::metric_type>(p_.field[v]) ? dist_[v] : T(0);
+  }
+  /// Key and field side by side: a relaxation reads one cache line per neighbour.
+  struct slot {
+    T key;
+    T field;
+  };
+
+  void search(index_t q) {
+    if (!(T(0) < dist_[q])) return;  // a query on a node has an empty cell
+    slot* key = key_.data();
+    std::size_t live = 0;
+    if (!(pw_ && seed_from_table(q, live))) {
+      key[q].key = T(0);
+      heap_.push(kt::make(T(0), 0), q);
+      live = 1;
+    }
+    while (!heap_.empty()) {
+      const auto it = heap_.pop();
+      --live;
+      const index_t v = it.voxel;
+      const T dv = kt::distance(it.key);
+      if (dv != key[v].key) continue;  // stale: v was queued again with a smaller distance
+      cell_.push_back(v);
+      const T fv = key[v].field;
+      walk_.for_each_neighbour(v, [&](int k, index_t u) {
+        slot& su = key[u];
+        const T ku = su.key;
+        if (!(dv < ku)) return;  // settled, out of reach, or outside the domain (bound 0)
+        const T w = p_.metric(p_.edges.length[k], fv, su.field);
+        if (!(w >= T(0))) fused_bad_weight(double(w));
+        const T nd = dv + w;
+        if (nd < ku) {
+          su.key = nd;
+          heap_.push(kt::make(nd, 0), u);
+          if (++live > heap_peak_) heap_peak_ = live;
+        }
+      });
+    }
+  }
+
+  /**
+   * The exact ball of q's constant region (piecewise.hpp): its cell voxels get their distances from the
+   * table; those whose neighbourhood lies in the ball join the cell list at once, the others (the rim)
+   * are queued so the search continues from them. Returns false (nothing done) where no ball applies.
+   */
+  bool seed_from_table(index_t q, std::size_t& live) {
+    const auto* t = pw_->table_of(q);
+    if (!t) return false;
+    const index_t m = pw_->m(q);
+    index_t ext[3], qc[3];
+    for (int a = 0; a < 3; ++a) ext[a] = pw_->extent(a);
+    {
+      index_t v = q;
+      qc[0] = v % ext[0];
+      v /= ext[0];
+      qc[1] = v % ext[1];
+      qc[2] = v / ext[1];
+    }
+    const index_t stride[3] = {1, t->e[0], t->e[0] * t->e[1]};
+    const T* L = t->L.data();
+    T r = std::numeric_limits<T>::infinity();
+    for (int a = 0; a < P::dim; ++a)
+      if (m <= ext[a] - 1) r = std::min(r, L[m * stride[a]]);
+    if (!(T(0) < r) || !(r < std::numeric_limits<T>::infinity())) return false;
+    index_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::max<index_t>(0, qc[a] - (m - 1));
+      hi[a] = std::min<index_t>(ext[a] - 1, qc[a] + (m - 1));
+    }
+    slot* key = key_.data();
+    for (index_t z = lo[2]; z <= hi[2]; ++z) {
+      const index_t oz = z > qc[2] ? z - qc[2] : qc[2] - z;
+      const index_t iz = std::min(oz + 1, ext[2] - 1);
+      for (index_t y = lo[1]; y <= hi[1]; ++y) {
+        const index_t oy = y > qc[1] ? y - qc[1] : qc[1] - y;
+        const index_t iy = std::min(oy + 1, ext[1] - 1);
+        const T* row = L + stride[1] * oy + stride[2] * oz;
+        const T* next = L + stride[1] * iy + stride[2] * iz;
+        const index_t base = ext[0] * (y + ext[1] * z);
+        for (index_t x = lo[0]; x <= hi[0]; ++x) {
+          const index_t ox = x > qc[0] ? x - qc[0] : qc[0] - x;
+          const T l = row[ox];
+          if (!(l < r)) continue;  // outside the ball
+          const index_t v = base + x;
+          if (!(l < key[v].key)) continue;  // not in the cell (key[v] is still its bound)
+          key[v].key = l;
+          if (next[std::min(ox + 1, ext[0] - 1)] < r) {
+            cell_.push_back(v);  // its whole neighbourhood is in the ball: exact already
+          } else {
+            heap_.push(kt::make(l, 0), v);
+            ++live;
+          }
+        }
+      }
+    }
+    if (live > heap_peak_) heap_peak_ = live;
+    return true;
+  }
+
+  bool facets(const std::vector<face<P::dim>>& faces, accumulators& acc) const {
+    bool any_facet = false;
+    const slot* key = key_.data();
+    for (index_t v : cell_) {
+      const auto c = p_.geometry.coords(v);
+      const T fv = p_.field[v];
+      const T dq = key[v].key;
+      for (const auto& f : faces) {
+        if (!face_in_grid(p_, c, f)) continue;
+        const index_t w = v + f.delta;
+        if (!p_.inside(w)) continue;
+        const label_t k = lab_[w];
+        if (k == no_label) continue;
+        if (key[w].key < bound(w)) continue;  // w is in the cell too
+        acc.touch(k);
+        ++acc.faces[k][f.axis];
+        any_facet = true;
+        const T cvw = p_.metric(p_.edges.length[f.edge], fv, p_.field[w]);
+        T h = dq + cvw;
+        h = h + dist_[w];
+        if (double(h) < acc.h[k]) acc.h[k] = double(h);
+      }
+    }
+    return any_facet;
+  }
+
+  const P& p_;
+  stencil_walker<P> walk_;
+  const T* dist_;
+  const label_t* lab_;
+  const piecewise_tables<P>* pw_;
+  std::vector<slot> key_;
+  std::vector<index_t> cell_;
+  radix_heap<T> heap_;
+  std::size_t heap_peak_ = 0;
+};
+
+}  // namespace geovoronoi::detail::shape
