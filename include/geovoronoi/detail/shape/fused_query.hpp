@@ -114,7 +114,7 @@ class fused_query {
       if (dv != key[v].key) continue;  // stale: v was queued again with a smaller distance
       cell_.push_back(v);
       const T fv = key[v].field;
-      walk_.for_each_neighbour(v, [&](int k, index_t u) {
+      walk_.for_each_neighbour(p_, v, [&](int k, index_t u) {
         slot& su = key[u];
         const T ku = su.key;
         if (!(dv < ku)) return;  // settled, out of reach, or outside the domain (bound 0)
@@ -216,7 +216,7 @@ class fused_query {
   }
 
   const P& p_;
-  stencil_walker<P> walk_;
+  stencil_walker<P::dim> walk_;
   const T* dist_;
   const label_t* lab_;
   const piecewise_tables<P>* pw_;
