@@ -61,7 +61,7 @@ struct shape_options {
   /// typical size of a query's new cell.
   std::size_t batch_size = 4096;
   /// Bytes the Sibson/Laplace query loop may hold in scratch at once. On host backends (seq, Thrust on
-  /// host systems) each worker is budgeted about 32 bytes per voxel of the grid (float); fewer workers run when the budget
+  /// host systems) each worker is budgeted about 24 bytes per voxel of the grid (float); fewer workers run when the budget
   /// does not allow one per thread, and a budget below one worker throws std::invalid_argument. On
   /// other backends it caps the queries per batch from the cell sizes seen so far.
   std::size_t memory_budget = std::size_t(1) << 30;
