@@ -57,13 +57,14 @@ struct shape_options {
   /// K (SOFA's nbRef): the most nodes one voxel keeps; the smallest weights are dropped, then the
   /// kept ones are renormalised. Must be >= 1.
   int max_nodes_per_voxel = 4;
-  /// Queries per backend call (Sibson, Laplace). Must be >= 1. Memory grows with batch_size times the
-  /// typical size of a query's new cell.
+  /// Queries per progress report and cancellation check (Sibson, Laplace), and per backend call on
+  /// backends without fused host queries (there memory grows with it). Must be >= 1.
   std::size_t batch_size = 4096;
-  /// Bytes the Sibson/Laplace query loop may hold in scratch at once. On host backends (seq, Thrust on
-  /// host systems) each worker is budgeted about 32 bytes per voxel of the grid (float); fewer workers run when the budget
-  /// does not allow one per thread, and a budget below one worker throws std::invalid_argument. On
-  /// other backends it caps the queries per batch from the cell sizes seen so far.
+  /// Bytes the Sibson/Laplace query loop may hold in scratch at once. On host backends (seq, Thrust
+  /// on host systems) each worker is budgeted about 24 bytes per voxel of the grid (float); fewer
+  /// workers run when the budget does not allow one per thread, and a budget below one worker throws
+  /// std::invalid_argument. On other backends it caps the queries per batch from the cell sizes
+  /// seen so far.
   std::size_t memory_budget = std::size_t(1) << 30;
   /// Sibson/Laplace on host backends: fill the part of a query's new cell that lies in an exact ball of
   /// its constant-field region from a distance table instead of searching it (piecewise.hpp). The
