@@ -107,16 +107,17 @@ gv::diagram<float, 3> solve_diagram(const job& j) {
   }
 }
 
-int solve_and_write(const char* command, const arguments& a,
+int solve_and_write(const char* command, const arguments& a, const std::function<void(const job&)>& check,
                     const std::function<void(const job&, const gv::diagram<float, 3>&, output_dir&, progress_bar&)>& more) {
   progress_bar bar(std::string("geovoronoi ") + command);
   bar.update("reading");
   const job j = load_job(a);
+  if (check) check(j);
   output_dir out(j.out);
   bar.update("voronoi");
   const auto d = solve_diagram(j);
   bar.update("writing");
-  write_voronoi(out, d, j.field);
+  write_voronoi(out, d, j.field, j.pictures());
   more(j, d, out, bar);
   out.commit();
   bar.finish();

@@ -5,6 +5,7 @@
 #include "arguments.hpp"
 #include "backends.hpp"
 #include "output_dir.hpp"
+#include "outputs.hpp"
 #include "progress_bar.hpp"
 #include "solve.hpp"
 
@@ -24,6 +25,8 @@ struct job {
   std::vector<gv::coord<3>> seeds;
   std::vector<int> seed_lines;  ///< the seed file's line of each seed
   problem_spec spec() const { return {field, seeds, metric, connectivity}; }
+  /// How its pictures are titled (metric, neighbours; lengths in the volume's unit).
+  picture_context pictures() const { return {metric, "LENGTH", connectivity}; }
 };
 
 /// The options of voronoi plus @p extra (shape-functions adds its own).
@@ -37,9 +40,10 @@ job load_job(const arguments& a);
 /// back as a usage_error naming the seed file and line.
 gv::diagram<float, 3> solve_diagram(const job& j);
 
-/// Loads the job, solves the diagram, writes the voronoi outputs, then `more(job, diagram, out, bar)`
+/// Loads the job, runs `check(job)` (a command's own checks that need the job, before any work; may
+/// be empty), solves the diagram, writes the voronoi outputs, then `more(job, diagram, out, bar)`
 /// (the shape functions), moves the outputs into place and prints the summary line.
-int solve_and_write(const char* command, const arguments& a,
+int solve_and_write(const char* command, const arguments& a, const std::function<void(const job&)>& check,
                     const std::function<void(const job&, const gv::diagram<float, 3>&, output_dir&, progress_bar&)>& more);
 
 }  // namespace gvcli

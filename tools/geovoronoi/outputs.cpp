@@ -3,11 +3,13 @@
 
 #include <geovoronoi/io/metaimage.hpp>
 #include <geovoronoi/io/npy.hpp>
+#include <geovoronoi/io/picture.hpp>
 #include <geovoronoi/io/png.hpp>
 #include <geovoronoi/io/vti.hpp>
 
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <vector>
 
 namespace gvcli {
@@ -31,18 +33,20 @@ gio::volume<T> planar_volume(const gv::grid<3>& g, int channels) {
 
 }  // namespace
 
-void write_voronoi(const output_dir& out, const gv::diagram<float, 3>& d, const gv::image<float, 3>& field) {
+void write_voronoi(const output_dir& out, const gv::diagram<float, 3>& d, const gv::image<float, 3>& field,
+                   const picture_context& pc) {
   gio::write_metaimage(out.file("distance.mhd"), d.distance);
   gio::write_metaimage(out.file("label.mhd"), d.label);
-  gio::write_png(out.file("labels.png"), gio::label_montage(d.label, d.seeds, &field));
-  gio::write_png(out.file("distance.png"), gio::distance_montage(d.distance, d.seeds));
+  gio::write_png(out.file("labels.png"), gio::label_picture(d.label, d.seeds, &field, pc.options("VORONOI CELLS")));
+  gio::write_png(out.file("distance.png"),
+                 gio::distance_picture(d.distance, d.seeds, pc.distance_unit(), pc.options("GEODESIC DISTANCE")));
   gio::vti_writer<3> w(d.geometry());
   w.add("label", d.label).add("distance", d.distance).add("stiffness", field);
   w.write(out.file("voronoi.vti"));
 }
 
 void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, const gv::diagram<float, 3>& d,
-                 int png_node) {
+                 int png_node, const picture_context& pc, const std::string& method) {
   const auto& g = w.geometry;
   const std::size_t n = std::size_t(g.size()), k = std::size_t(w.k);
   auto idx = planar_volume<std::uint32_t>(g, w.k);
@@ -55,8 +59,24 @@ void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, c
     }
   gio::metaimage_write_options planar;
   planar.layout = gio::channel_layout::planar;
-  gio::write_metaimage(dir + "/indices.mhd", idx, planar);
-  gio::write_metaimage(dir + "/weights.mhd", wt, planar);
+  gio::write_metaimage(dir + "/indices_sofa_planar.mhd", idx, planar);
+  gio::write_metaimage(dir + "/weights_sofa_planar.mhd", wt, planar);
+  gio::write_metaimage(dir + "/indices.mhd", idx);  // interleaved: what every MetaImage reader expects
+  gio::write_metaimage(dir + "/weights.mhd", wt);
+  {
+    // ParaView: the weights and node indices as K-component arrays (node index 0-based, -1 empty)
+    std::vector<std::int32_t> nodes(n * k);
+    std::vector<float> weights(n * k);
+    for (std::size_t i = 0; i < n * k; ++i) {
+      nodes[i] = w.node[i] < 0 ? -1 : std::int32_t(w.node[i]);
+      weights[i] = w.node[i] < 0 ? 0.0f : float(w.weight[i]);
+    }
+    gio::vti_writer<3> vw(g);
+    vw.add("label", d.label)
+        .add("weights", weights.data(), weights.size(), w.k)
+        .add("nodes", nodes.data(), nodes.size(), w.k);
+    vw.write(dir + "/weights.vti");
+  }
   auto m = w.to_sparse_matrix();
   m.makeCompressed();
   std::vector<std::int64_t> indptr(std::size_t(m.rows()) + 1);
@@ -66,12 +86,18 @@ void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, c
   gio::write_npy(dir + "/weights_indptr.npy", indptr);
   gio::write_npy(dir + "/weights_indices.npy", indices);
   gio::write_npy(dir + "/weights_data.npy", data);
+  // the pictured weight; NaN (drawn as outside) where a voxel has no weights at all
   gv::image<float, 3> one(g, 0.0f);
+  for (std::size_t v = 0; v < n; ++v) {
+    bool any = false;
+    for (std::size_t s = 0; s < k; ++s) any = any || w.node[v * k + s] >= 0;
+    if (!any) one[index_t(v)] = std::numeric_limits<float>::quiet_NaN();
+  }
   for (std::size_t v = 0; v < n; ++v)
     for (std::size_t s = 0; s < k; ++s)
       if (w.node[v * k + s] == png_node) one[index_t(v)] = float(w.weight[v * k + s]);
-  const index_t node_voxel = png_node >= 0 && std::size_t(png_node) < d.seeds.size() ? d.seeds[std::size_t(png_node)] : -1;
-  gio::write_png(dir + "/weight_node" + std::to_string(png_node) + ".png", gio::weight_montage(one, node_voxel));
+  gio::write_png(dir + "/weight_node" + std::to_string(png_node) + ".png",
+                 gio::weight_picture(one, png_node, d.seeds, pc.options(method + " SHAPE FUNCTION")));
 }
 
 void summary(const char* what, const gv::grid<3>& g, std::size_t seeds, const std::string& backend, double seconds,

@@ -4,6 +4,7 @@
 #include "output_dir.hpp"
 
 #include <geovoronoi.hpp>
+#include <geovoronoi/io/picture.hpp>
 #include <geovoronoi/shape_functions.hpp>
 
 #include <string>
@@ -17,13 +18,34 @@ inline const char* method_name(gv::shape_method m) {
   return m == gv::shape_method::distance_ratio ? "distance-ratio" : m == gv::shape_method::sibson ? "sibson" : "laplace";
 }
 
-/// distance.mhd, label.mhd, labels.png, distance.png, voronoi.vti
-void write_voronoi(const output_dir& out, const gv::diagram<float, 3>& d, const gv::image<float, 3>& field);
+/// How the pictures of a run are titled: the metric and neighbourhood, the distance's unit.
+struct picture_context {
+  std::string metric = "min_stiffness", length = "LENGTH";
+  int connectivity = 26;
+  std::string setting() const { return "METRIC " + metric + ", " + std::to_string(connectivity) + " NEIGHBOURS"; }
+  std::string distance_unit() const {
+    if (metric == "uniform") return length;
+    if (metric == "mean_cost") return length + " X COST";
+    return length + "/STIFFNESS";
+  }
+  /// Options whose title is "@p what - METRIC m, c NEIGHBOURS".
+  geovoronoi::io::picture_options options(const std::string& what) const {
+    geovoronoi::io::picture_options o;
+    o.title = {what + " - " + setting()};
+    return o;
+  }
+};
 
-/// indices.mhd, weights.mhd (K planar channels, SOFA layout), weights_*.npy (CSR), weight_node<i>.png,
-/// in the folder @p dir.
+/// distance.mhd, label.mhd, labels.png, distance.png, voronoi.vti
+void write_voronoi(const output_dir& out, const gv::diagram<float, 3>& d, const gv::image<float, 3>& field,
+                   const picture_context& pc);
+
+/// In the folder @p dir: indices.mhd, weights.mhd (K interleaved channels: ITK, ParaView, Slicer),
+/// indices_sofa_planar.mhd, weights_sofa_planar.mhd (K planar channels, SOFA's layout), weights.vti
+/// (K-component weights and nodes arrays), weights_*.npy (CSR), weight_node<png_node>.png (titled
+/// "@p method SHAPE FUNCTION"; voxels without any weight drawn as outside).
 void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, const gv::diagram<float, 3>& d,
-                 int png_node);
+                 int png_node, const picture_context& pc, const std::string& method);
 
 /// The one summary line a command prints at the end.
 void summary(const char* what, const gv::grid<3>& g, std::size_t seeds, const std::string& backend, double seconds,

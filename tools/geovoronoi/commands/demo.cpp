@@ -7,11 +7,15 @@
 #include "../progress_bar.hpp"
 
 #include <geovoronoi/io/metaimage.hpp>
+#include <geovoronoi/io/picture.hpp>
 #include <geovoronoi/io/png.hpp>
 #include <geovoronoi/phantom.hpp>
 
 #include <cstdio>
 #include <fstream>
+#include <limits>
+#include <set>
+#include <stdexcept>
 
 namespace gvcli {
 
@@ -29,6 +33,41 @@ std::vector<gv::coord<3>> mid_slice_seeds(const gv::image<float, 3>& field, int 
   return gv::phantom::spread_seeds(plane, count);
 }
 
+/// The same nodes on a coarser grid of the same object: each moves to the voxel whose centre is
+/// nearest to its world position (or, if that voxel is outside the object or taken, to the nearest
+/// free inside voxel of its slice within two voxels), so node i keeps its place, its index and its
+/// colour in every picture.
+std::vector<gv::coord<3>> resample_seeds(const gv::grid<3>& from, const std::vector<gv::coord<3>>& seeds,
+                                         const gv::image<float, 3>& field) {
+  const auto& g = field.geometry();
+  std::vector<gv::coord<3>> out;
+  std::set<index_t> used;
+  for (std::size_t i = 0; i < seeds.size(); ++i) {
+    const auto c = g.nearest_voxel(from.world(seeds[i]));
+    index_t best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (index_t dy = -2; dy <= 2; ++dy)
+      for (index_t dx = -2; dx <= 2; ++dx) {
+        const gv::coord<3> q{c[0] + dx, c[1] + dy, c[2]};
+        if (!g.contains(q) || !(field[g.index(q)] > 0) || used.count(g.index(q))) continue;
+        const double dist = double(dx * dx + dy * dy);
+        if (dist < best_d) best_d = dist, best = g.index(q);
+      }
+    if (best < 0) throw std::runtime_error("demo: node " + std::to_string(i) + " has no place on the coarse grid");
+    used.insert(best);
+    out.push_back(g.coords(best));
+  }
+  return out;
+}
+
+/// A seed file (valid for --seeds) of @p seeds, voxel indices in @p volume.
+void write_seeds(const std::string& path, const std::vector<gv::coord<3>>& seeds, const std::string& volume) {
+  std::ofstream s(path);
+  s << "# i,j,k voxel indices of the demo's nodes (x, y, z) in " << volume << "; line n is node n - 1\n";
+  for (const auto& c : seeds) s << c[0] << "," << c[1] << "," << c[2] << "\n";
+  if (!s) throw gio::io_error(path, "write error");
+}
+
 int run(const std::vector<std::string>& args) {
   const arguments a(args, {"--out", "--backend"}, {});
   const std::string dir = a.get("--out", "demo-out");
@@ -43,38 +82,40 @@ int run(const std::vector<std::string>& args) {
   // Sibson inserts every voxel as a query and searches its new cell (cost ~ voxels^2 / nodes; the
   // steak is not translation invariant, so no shortcut applies): on CPU backends it runs on the same
   // steak at half the resolution (same physical size, 1/8 of the voxels, 1/64 of the work), on a GPU
-  // backend at full resolution.
+  // backend at full resolution. The nodes are the same ones, moved to the coarse grid.
   const bool full_sibson = backend_name == "cuda";
   const gv::grid<3> gh = full_sibson ? g : gv::grid<3>({64, 48, 16}, {2.0, 2.0, 2.0});
   const auto field_h = gv::phantom::steak(gh);
-  const auto seeds_h = mid_slice_seeds(field_h, 12);
+  const auto seeds_h = full_sibson ? seeds : resample_seeds(g, seeds, field_h);
   output_dir out(dir);
   gio::write_metaimage(out.file("stiffness.mhd"), field);
-  {
-    std::ofstream s(out.file("seeds.csv"));
-    s << "# i,j,k voxel indices of the demo's nodes (x, y, z) in stiffness.mhd\n";
-    for (const auto& c : seeds) s << c[0] << "," << c[1] << "," << c[2] << "\n";
-    if (!s) throw gio::io_error(out.file("seeds.csv"), "write error");
-  }
+  write_seeds(out.file("seeds.csv"), seeds, "stiffness.mhd");
   std::printf("demo: steak phantom %lldx%lldx%lld (Sibson: %lldx%lldx%lld), %zu nodes, backend %s\n",
               (long long)g.extent(0), (long long)g.extent(1), (long long)g.extent(2), (long long)gh.extent(0),
               (long long)gh.extent(1), (long long)gh.extent(2), seeds.size(), backend_name.c_str());
   std::fflush(stdout);
   const problem_spec p{field, seeds, "min_stiffness", 26};
+  const picture_context pc{"min_stiffness", "MM", 26}, pcu{"uniform", "MM", 26};
   bar.update("voronoi");
   auto t0 = bar.seconds();
   const auto d = solver.voronoi(p);
   std::printf("  voronoi          %7.2f s\n", bar.seconds() - t0);
-  write_voronoi(out, d, field);
+  write_voronoi(out, d, field, pc);
   // the same seeds under the uniform metric, to show what the stiffness changes
   const auto du = solver.voronoi({field, seeds, "uniform", 26});
-  const auto uni = gio::label_montage(du.label, du.seeds, &field);
-  gio::write_png(out.file("labels_uniform.png"), uni);
-  // side by side: the XY mid-slice under the uniform metric (left) and under min_stiffness (right)
-  const auto stiff = gio::label_montage(d.label, d.seeds, &field);
-  const index_t panel_w = gio::first_panel_width(g, uni);
+  gio::write_png(out.file("labels_uniform.png"),
+                 gio::label_picture(du.label, du.seeds, &field, pcu.options("VORONOI CELLS")));
+  // side by side: the XY mid-slice under the uniform metric (left) and under min_stiffness (right),
+  // each titled by its metric alone, one legend (on the right) for both
+  auto left = pcu.options("UNIFORM METRIC: CELLS IGNORE THE BONE");
+  auto right = pc.options("MIN_STIFFNESS: CELLS FOLLOW IT");
+  left.title = {left.title[0].substr(0, left.title[0].find(" - "))};
+  right.title = {right.title[0].substr(0, right.title[0].find(" - "))};
+  left.xy_only = right.xy_only = true;
+  left.legend = false;
   gio::write_png(out.file("labels_compare.png"),
-                 gio::hstack(gio::crop(uni, 0, 0, panel_w, uni.height), gio::crop(stiff, 0, 0, panel_w, stiff.height)));
+                 gio::hstack(gio::label_picture(du.label, du.seeds, &field, left),
+                             gio::label_picture(d.label, d.seeds, &field, right), gio::picture_background));
   auto shape = [&](const problem_spec& prob, const gv::diagram<float, 3>& diag, gv::shape_method method) {
     bar.update(method_name(method), 0.0);
     t0 = bar.seconds();
@@ -87,11 +128,13 @@ int run(const std::vector<std::string>& args) {
                 (long long)prob.field.geometry().size());
     std::fflush(stdout);
     const std::string sub = out.subdir(method_name(method));
-    write_shape(sub, w, diag, 0);
+    write_shape(sub, w, diag, 0, pc, method_name(method));
     if (method == gv::shape_method::sibson) {
       gio::write_metaimage(sub + "/stiffness.mhd", prob.field);
+      write_seeds(sub + "/seeds.csv", prob.seeds, "sibson/stiffness.mhd");
       gio::write_metaimage(sub + "/label.mhd", diag.label);
-      gio::write_png(sub + "/labels.png", gio::label_montage(diag.label, diag.seeds, &prob.field));
+      gio::write_png(sub + "/labels.png",
+                     gio::label_picture(diag.label, diag.seeds, &prob.field, pc.options("VORONOI CELLS")));
     }
   };
   shape(p, d, gv::shape_method::distance_ratio);
@@ -128,7 +171,9 @@ const command demo_command = {
     "  labels_uniform.png  the cells under the uniform metric\n"
     "  labels_compare.png  the middle slice under uniform (left) and min_stiffness (right)\n"
     "  distance-ratio/     the files of `geovoronoi shape-functions --method distance-ratio`\n"
-    "  sibson/             the same for Sibson, with its own stiffness.mhd, label.mhd, labels.png\n"
+    "  sibson/             the same for Sibson, with its own stiffness.mhd, seeds.csv (the same 12\n"
+    "                      nodes, each moved to the nearest inside voxel of the half-resolution grid on\n"
+    "                      CPU backends), label.mhd, labels.png\n"
     "\n"
     "example:\n"
     "  geovoronoi demo --out demo-out\n",

@@ -15,10 +15,17 @@ gv::shape_method parse_method(const std::string& m) {
 }
 
 int run(const std::vector<std::string>& args) {
-  const arguments a(args, solve_options({"--method", "--nodes-per-voxel"}), solve_flags());
+  const arguments a(args, solve_options({"--method", "--nodes-per-voxel", "--picture-node"}), solve_flags());
   const auto method = parse_method(a.require("--method"));
   const int k = int(a.integer("--nodes-per-voxel", 4, 1, 64));
-  return solve_and_write("shape-functions", a,
+  const int picture_node = int(a.integer("--picture-node", 0, 0, 1 << 30));
+  // checked before any work: the node must exist
+  auto check = [&](const job& j) {
+    if (std::size_t(picture_node) >= j.seeds.size())
+      throw usage_error("--picture-node " + std::to_string(picture_node) + ": must be less than the number of nodes (" +
+                        std::to_string(j.seeds.size()) + ")");
+  };
+  return solve_and_write("shape-functions", a, check,
                          [&](const job& j, const gv::diagram<float, 3>& d, output_dir& out, progress_bar& bar) {
                            bar.update(method_name(method), 0.0);
                            gv::shape_options opt;
@@ -30,7 +37,7 @@ int run(const std::vector<std::string>& args) {
                            };
                            const auto w = j.solver->shape(j.spec(), d, opt);
                            bar.update("writing");
-                           write_shape(out.subdir("."), w, d, 0);
+                           write_shape(out.subdir("."), w, d, picture_node, j.pictures(), method_name(method));
                          });
 }
 
@@ -46,16 +53,22 @@ const command shape_functions_command = {
     "options: those of `geovoronoi voronoi` (see `geovoronoi help voronoi`), and\n"
     "  --method M          distance-ratio, sibson or laplace (required)\n"
     "  --nodes-per-voxel K the most nodes a voxel keeps, 1..64 (default: 4)\n"
+    "  --picture-node N    the node whose weight weight_node<N>.png shows, 0 to nodes - 1 (default: 0)\n"
     "  --stiffness FILE, --seeds FILE, --out DIR (required); --metric M (default: min_stiffness),\n"
     "  --connectivity N (default: 26), --backend B (default: the fastest built one that runs here),\n"
     "  --world, --extrude N (default: 1), --help\n"
     "\n"
     "writes, in DIR: the files of `geovoronoi voronoi`, and\n"
-    "  indices.mhd/.raw    K channels, SOFA's planar layout: node index + 1, 0 for an empty slot\n"
-    "  weights.mhd/.raw    K channels, the same layout: the weight of that node\n"
+    "  indices.mhd/.raw    K interleaved channels (ITK, ParaView, Slicer): node index + 1, 0 for an\n"
+    "                      empty slot\n"
+    "  weights.mhd/.raw    K interleaved channels: the weight of that node\n"
+    "  indices_sofa_planar.mhd/.raw, weights_sofa_planar.mhd/.raw\n"
+    "                      the same values in SOFA's planar layout (each channel's volume in turn)\n"
+    "  weights.vti         label, and K-component arrays weights and nodes (0-based, -1 empty) for\n"
+    "                      ParaView\n"
     "  weights_indptr.npy, weights_indices.npy, weights_data.npy\n"
     "                      the voxels x nodes matrix in CSR form (scipy.sparse.csr_matrix)\n"
-    "  weight_node0.png    node 0's weight on the three mid-slices\n"
+    "  weight_node<N>.png  node N's weight (--picture-node) on the three mid-slices\n"
     "\n"
     "example:\n"
     "  geovoronoi shape-functions --stiffness demo-out/stiffness.mhd --seeds demo-out/seeds.csv \\\n"

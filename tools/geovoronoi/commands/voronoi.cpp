@@ -8,7 +8,7 @@ namespace {
 
 int run(const std::vector<std::string>& args) {
   const arguments a(args, solve_options(), solve_flags());
-  return solve_and_write("voronoi", a, [](auto&&...) {});
+  return solve_and_write("voronoi", a, nullptr, [](auto&&...) {});
 }
 
 }  // namespace
