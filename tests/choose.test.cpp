@@ -3,6 +3,7 @@
 
 #include <doctest/doctest.h>
 
+#include <geovoronoi.hpp>  // with geovoronoi::seq in scope: the enumerators must not shadow it
 #include <geovoronoi/backend/choose.hpp>
 #include <geovoronoi/phantom.hpp>
 #include <geovoronoi/problem.hpp>
@@ -14,7 +15,7 @@ namespace {
 namespace gv = geovoronoi;
 
 TEST_CASE("choose: names") {
-  CHECK(std::strcmp(gv::to_string(gv::backend_kind::seq), "seq") == 0);
+  CHECK(std::strcmp(gv::to_string(gv::backend_kind::sequential), "seq") == 0);
   CHECK(std::strcmp(gv::to_string(gv::backend_kind::thrust), "thrust") == 0);
   CHECK(std::strcmp(gv::to_string(gv::backend_kind::cuda), "cuda") == 0);
 }
@@ -25,8 +26,8 @@ TEST_CASE("choose: a large domain goes to thrust with two threads or more, to se
   const auto p = gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<26>{});
   CHECK(gv::recommended_backend(p, 2) == gv::backend_kind::thrust);
   CHECK(gv::recommended_backend(p, 16) == gv::backend_kind::thrust);
-  CHECK(gv::recommended_backend(p, 1) == gv::backend_kind::seq);
-  CHECK(gv::recommended_backend(p, 0) == gv::backend_kind::seq);  // unknown: one thread
+  CHECK(gv::recommended_backend(p, 1) == gv::backend_kind::sequential);
+  CHECK(gv::recommended_backend(p, 0) == gv::backend_kind::sequential);  // unknown: one thread
   const auto c = gv::recommended_backend_explained(p, 2);
   CHECK(c.facts.voxels == g.size());
   CHECK(c.facts.domain == g.size());
@@ -40,8 +41,8 @@ TEST_CASE("choose: small domains go to seq") {
   const gv::grid<3> g({48, 48, 48});  // 110592 voxels < 2^18
   const auto f = gv::phantom::constant(g);
   const auto p = gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<6>{});
-  CHECK(gv::recommended_backend(p, 2) == gv::backend_kind::seq);
-  CHECK(gv::recommended_backend(p, 64) == gv::backend_kind::seq);
+  CHECK(gv::recommended_backend(p, 2) == gv::backend_kind::sequential);
+  CHECK(gv::recommended_backend(p, 64) == gv::backend_kind::sequential);
   // the threshold counts domain voxels, not grid voxels: a big grid that is mostly masked
   const gv::grid<3> big({80, 80, 64});
   std::vector<float> masked(static_cast<std::size_t>(big.size()), 0.0f);
@@ -49,7 +50,7 @@ TEST_CASE("choose: small domains go to seq") {
   const auto q = gv::make_problem(big, masked, gv::min_stiffness{}, gv::connectivity<26>{});
   const auto c = gv::recommended_backend_explained(q, 2);
   CHECK(c.facts.domain == big.size() / 2);
-  CHECK(c.kind == gv::backend_kind::seq);
+  CHECK(c.kind == gv::backend_kind::sequential);
   // with the domain above the threshold it is thrust again
   for (gv::index_t v = 0; v < big.size() * 3 / 4; ++v) masked[static_cast<std::size_t>(v)] = 1.0f;
   CHECK(gv::recommended_backend(q, 2) == gv::backend_kind::thrust);
@@ -62,11 +63,11 @@ TEST_CASE("choose: a domain that is a small part of the grid goes to seq") {
   const auto p = gv::make_problem(g, f, gv::uniform{}, gv::connectivity<6>{});
   gv::backend_rule rule;
   rule.min_domain = 1000;  // let the fraction decide
-  CHECK(gv::recommended_backend(p, 2, false, rule) == gv::backend_kind::seq);
+  CHECK(gv::recommended_backend(p, 2, false, rule) == gv::backend_kind::sequential);
   rule.min_domain_fraction = 0.04;
   CHECK(gv::recommended_backend(p, 2, false, rule) == gv::backend_kind::thrust);
   rule.min_threads = 4;
-  CHECK(gv::recommended_backend(p, 2, false, rule) == gv::backend_kind::seq);
+  CHECK(gv::recommended_backend(p, 2, false, rule) == gv::backend_kind::sequential);
   CHECK(gv::recommended_backend(p, 4, false, rule) == gv::backend_kind::thrust);
 }
 

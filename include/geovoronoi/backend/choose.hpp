@@ -18,8 +18,9 @@
 
 namespace geovoronoi {
 
-/// The library's backends.
-enum class backend_kind { seq, thrust, cuda };
+/// The library's backends: `sequential` is geovoronoi::seq, `thrust` geovoronoi::thrust::par,
+/// `cuda` geovoronoi::cuda::par.
+enum class backend_kind { sequential, thrust, cuda };
 
 /// "seq", "thrust" or "cuda".
 constexpr const char* to_string(backend_kind b) noexcept {
@@ -36,7 +37,7 @@ struct backend_facts {
 
 /// A recommendation and the rule that made it (a static string, e.g. for a --verbose line).
 struct backend_choice {
-  backend_kind kind = backend_kind::seq;
+  backend_kind kind = backend_kind::sequential;
   const char* reason = "";
   backend_facts facts{};
 };
@@ -78,13 +79,13 @@ backend_choice recommended_backend_explained(const P& problem, unsigned threads,
     c.kind = backend_kind::cuda;
     c.reason = "a CUDA device is available";
   } else if (c.facts.threads < rule.min_threads) {
-    c.kind = backend_kind::seq;
+    c.kind = backend_kind::sequential;
     c.reason = "one hardware thread: the Thrust host systems have nothing to share";
   } else if (in < rule.min_domain) {
-    c.kind = backend_kind::seq;
+    c.kind = backend_kind::sequential;
     c.reason = "small domain: Thrust's steps would run on one thread";
   } else if (double(in) < rule.min_domain_fraction * double(c.facts.voxels)) {
-    c.kind = backend_kind::seq;
+    c.kind = backend_kind::sequential;
     c.reason = "the domain is a small part of the grid";
   } else {
     c.kind = backend_kind::thrust;
