@@ -1,14 +1,16 @@
 #pragma once
 // The Thrust backend's engine: near-far frontier relaxation with packed (distance, label) keys.
 //
-// Voxels waiting to be expanded sit either in the near list (key distance <= theta) or in the far
-// pile (above theta). A round expands the whole near list in parallel: each expansion pushes
-// candidate keys to its neighbours with an atomic min, and a neighbour whose key dropped is queued
-// (near or far by its new distance) unless it is queued already. When the near list runs dry, theta
-// rises to the smallest far distance plus a window delta sized so that the next near list holds
-// about `target` voxels, and the far pile is split. With a narrow window almost every voxel is
-// expanded once, with its final key (Dijkstra's order, in batches); a wide one gives parallelism at
-// the price of re-expansions. The fixed point is the same either way (see docs/backend-thrust.md).
+// Voxels waiting to be expanded sit either in the near list (inside the current window) or in the far
+// pile. A round expands the whole near list in parallel: each expansion pushes candidate keys to its
+// neighbours with an atomic min, and a neighbour whose key dropped is queued (near or far by its new
+// distance) unless it is queued already. When the near list runs dry, the window moves up: its
+// bottom is the smallest far distance, its top theta is set so that the next near list holds about
+// `target` voxels but is at most a few edges deep, and a voxel is near only if it is also within a
+// few of its own local edge weights of the bottom (admission). Then the far pile is split. With a
+// narrow window almost every voxel is expanded once, with its final key (Dijkstra's order, in
+// batches); a wide one gives parallelism at the price of re-expansions. The fixed point is the same
+// either way (see docs/backend-thrust.md).
 
 #include <geovoronoi/backend/thrust/detail/atomics.hpp>
 #include <geovoronoi/backend/thrust/detail/system.hpp>
@@ -61,6 +63,26 @@ GEOVORONOI_HOST_DEVICE inline void flush_stage(const index_t* stage, index_t top
   }
 }
 
+/// Which queued distances belong to the near list in the current window: below theta (the window's
+/// top), and no deeper than `depth` local edges above the window's bottom `base`, where the local
+/// edge is the metric's weight of the shortest edge between two voxels of v's value (v's weight
+/// scale: length / b for the stiffness metrics). A single window over a front that crosses tissues
+/// whose weights differ by decades would otherwise be hundreds of edges deep in the stiff ones, and
+/// inside a window the near list is expanded in breadth-first rounds, not in distance order, so
+/// those voxels would be expanded again and again (docs/backend-thrust.md, "Window"). Distances up
+/// to base are always near, so every raise releases something. Only the work depends on this.
+template <class T>
+struct admission {
+  T theta;
+  T base;
+  T depth;
+  T length;  ///< the shortest edge length of the stencil
+  template <class M>
+  GEOVORONOI_HOST_DEVICE bool near(T d, T fv, const M& metric) const {
+    return d <= theta && (d <= base || d <= base + depth * metric(length, fv, fv));
+  }
+};
+
 /// Expands near-list entries [j*Chunk, (j+1)*Chunk). Queued neighbours are staged locally (near ones
 /// from the front, far ones from the back), then appended to the next near list and the far pile
 /// with one reservation each.
@@ -82,7 +104,7 @@ struct expand_fn {
   index_t* near_out;
   index_t* far_out;
   index_t* sizes;  // [0] near_out's, [1] far_out's
-  T theta;
+  admission<T> adm;
   Accept accept;
   int* error;
 
@@ -137,7 +159,7 @@ struct expand_fn {
           return;
         }
         publish_fence();
-        if (nd <= theta) {
+        if (adm.near(nd, fv, p.metric)) {
           if (flag_transition(flags + v, from_not_near{}, queued_near)) stage[a++] = v;
         } else if (flag_transition(flags + v, from_idle{}, queued_far)) {
           stage[top - 1 - b++] = v;
@@ -151,10 +173,12 @@ struct expand_fn {
 
 /// Splits far-pile entries [j*Chunk, (j+1)*Chunk) by theta; stale entries (no longer queued far)
 /// are dropped, duplicates resolve through the flag's compare-and-swap.
-template <class T, int Chunk>
+template <class P, int Chunk>
 struct split_fn {
+  using T = typename P::value_type;
   using cell = key_cell<T>;
   using kt = geovoronoi::detail::key_traits<T>;
+  P p;
   cell* keys;
   flag_t* flags;
   const index_t* list;
@@ -162,7 +186,7 @@ struct split_fn {
   index_t* near_out;
   index_t* far_out;
   index_t* sizes;
-  T theta;
+  admission<T> adm;
 
   GEOVORONOI_HOST_DEVICE void operator()(index_t j) const {
     index_t stage[Chunk];
@@ -172,7 +196,8 @@ struct split_fn {
     for (index_t i = begin; i < end; ++i) {
       const index_t v = list[i];
       if ((flag_load(flags + v) & state_mask) != queued_far) continue;
-      if (kt::distance(cell::load(keys + v)) <= theta) {
+      const T d = kt::distance(cell::load(keys + v));
+      if (d <= adm.theta && adm.near(d, p.field[v], p.metric)) {
         if (flag_transition(flags + v, from_far{}, queued_near)) stage[a++] = v;
       } else {
         stage[Chunk - 1 - b++] = v;
@@ -217,20 +242,63 @@ T window(T base, int k) noexcept {
   return k == 0 ? T(0) : std::ldexp(base, k - 1);
 }
 
+/// Smallest weight of an edge into v (+inf when no neighbour is inside the domain): how far a
+/// distance must rise above v's before a path through v's neighbours can undercut it.
+template <class P>
+typename P::value_type min_in_weight(const P& p, const geovoronoi::detail::stencil_walker<P::dim>& walk, index_t v) {
+  using T = typename P::value_type;
+  T best = std::numeric_limits<T>::infinity();
+  const T fv = p.field[v];
+  auto look = [&](int k, index_t u) {
+    const T fu = p.field[u];
+    if (!geovoronoi::detail::inside<typename P::metric_type>(fu)) return;
+    const T w = p.metric(p.edges.length[k], fu, fv);
+    if (w < best) best = w;
+  };
+  walk.for_each_neighbour(p, v, look);
+  return best;
+}
+
 /// Host systems: theta from a sample of the far pile. Reads up to `samples` evenly spaced entries
-/// (no pass over the pile), and returns the sampled distance below which about `target` of the
-/// live entries lie. Returns false when every sampled entry was stale. Only the work per round
-/// depends on theta, never the result.
-template <class T>
-bool sample_theta(const key_cell<T>* keys, const flag_t* flags, const index_t* list, index_t size, index_t target,
-                  std::vector<T>& scratch, T& theta) {
+/// (no pass over the pile) and takes the smaller of two thresholds:
+///  * count: the sampled distance below which about `target` of the live entries lie;
+///  * step: the smallest sampled distance plus `step_hops` times the median of the sampled entries'
+///    smallest incoming edge weights. Inside one window the near list is expanded in rounds, in
+///    breadth-first order rather than in distance order, so a window many edges deep lets voxels be
+///    reached first through paths of fewer but heavier edges, and each of them is expanded again;
+///    on a field whose values span decades (an MRI) a window from the count alone was hundreds of
+///    edges deep in the stiff tissues and cost 7 expansions per voxel (docs/backend-thrust.md,
+///    "Window").
+/// Returns false when every sampled entry was stale. Only the work per round depends on theta,
+/// never the result.
+/// Depth of the step window in (median) edges: 1-2 doubles the threshold raises on smooth fields,
+/// 16-32 lets re-expansions back in on the MRI-like phantom (1.05 expansions per voxel at 4-8).
+inline constexpr int step_hops = 4;
+/// Depth of the per-voxel admission (admission::depth), in local edges.
+inline constexpr int local_depth = 4;
+
+template <class P>
+bool sample_theta(const P& p, const geovoronoi::detail::stencil_walker<P::dim>& walk, const key_cell<typename P::value_type>* keys, const flag_t* flags,
+                  const index_t* list, index_t size, index_t target, std::vector<typename P::value_type>& scratch,
+                  std::vector<typename P::value_type>& weights, typename P::value_type& theta,
+                  typename P::value_type& base) {
+  using T = typename P::value_type;
   constexpr index_t samples = 1024;
+  constexpr index_t weight_samples = 256;
   const index_t s = std::min(size, samples);
   scratch.clear();
+  weights.clear();
+  T lo = std::numeric_limits<T>::infinity();
   for (index_t i = 0; i < s; ++i) {
     const index_t v = list[i * size / s];
-    if ((flag_load(flags + v) & state_mask) == queued_far)
-      scratch.push_back(geovoronoi::detail::key_traits<T>::distance(key_cell<T>::load(keys + v)));
+    if ((flag_load(flags + v) & state_mask) != queued_far) continue;
+    const T d = geovoronoi::detail::key_traits<T>::distance(key_cell<T>::load(keys + v));
+    scratch.push_back(d);
+    lo = std::min(lo, d);
+    if (static_cast<index_t>(weights.size()) * s < weight_samples * (i + 1)) {
+      const T w = min_in_weight(p, walk, v);
+      if (w < std::numeric_limits<T>::infinity()) weights.push_back(w);
+    }
   }
   if (scratch.empty()) return false;
   const index_t live = static_cast<index_t>(scratch.size());
@@ -239,6 +307,13 @@ bool sample_theta(const key_cell<T>* keys, const flag_t* flags, const index_t* l
   const index_t rank = std::min<index_t>(live - 1, static_cast<index_t>(frac * double(live)));
   std::nth_element(scratch.begin(), scratch.begin() + rank, scratch.end());
   theta = scratch[static_cast<std::size_t>(rank)];
+  base = lo;
+  if (!weights.empty()) {
+    const std::size_t q = weights.size() / 2;
+    std::nth_element(weights.begin(), weights.begin() + static_cast<std::ptrdiff_t>(q), weights.end());
+    const T step = lo + T(step_hops) * weights[q];
+    if (step < theta) theta = step;
+  }
   return true;
 }
 
@@ -257,7 +332,7 @@ void set_sizes(vec<Exec, index_t>& sizes, index_t a, index_t b) {
 /// entries. False when every far entry is stale.
 template <class Exec, class T>
 bool window_theta(const Exec& exec, const key_cell<T>* keys, const flag_t* flags, const index_t* fl, index_t far_size,
-                  index_t target, T& theta) {
+                  index_t target, T& theta, T& bottom) {
   const T inf = std::numeric_limits<T>::infinity();
   const far_distance<T> fd{keys, flags, inf};
   const T lo = ::thrust::transform_reduce(exec, fl, fl + far_size, fd, inf, ::thrust::minimum<T>());
@@ -276,6 +351,7 @@ bool window_theta(const Exec& exec, const key_cell<T>* keys, const flag_t* flags
     }
   }
   theta = lo + window(base, pick);
+  bottom = lo;
   return true;
 }
 
@@ -302,24 +378,31 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
 
   vec<Exec, index_t> near, next, far2, sizes(2);
   vec<Exec, int> error(1, 0);
-  std::vector<T> scratch;
+  std::vector<T> scratch, weights;
   engine_counts counts;
   index_t near_size = 0;
-  T theta = T(0);
+  admission<T> adm{T(0), T(0), T(local_depth), p.edges.length[0]};
+  for (int k = 1; k < N; ++k) adm.length = std::min(adm.length, p.edges.length[k]);
 
   while (near_size > 0 || far_size > 0) {
     if (near_size == 0) {
       // raise theta and split the far pile; when only stale entries were seen, a split with a theta
       // below every distance compacts the pile (drops the stale entries) and the loop samples again
       const index_t* fl = raw(far);
-      T next_theta = T(0);
+      T next_theta = T(0), bottom = T(0);
       bool live = false;
       if constexpr (device)
-        live = window_theta(exec, keys, flags, fl, far_size, target, next_theta);
+        live = window_theta(exec, keys, flags, fl, far_size, target, next_theta, bottom);
       else
-        live = sample_theta(keys, flags, fl, far_size, target, scratch, next_theta);
-      const T split_at = live ? next_theta : -std::numeric_limits<T>::infinity();
-      if (live) theta = next_theta;
+        live = sample_theta(p, walk, keys, flags, fl, far_size, target, scratch, weights, next_theta, bottom);
+      admission<T> split_adm = adm;
+      if (live) {
+        adm.theta = next_theta;
+        adm.base = bottom;
+        split_adm = adm;
+      } else {
+        split_adm.theta = split_adm.base = -std::numeric_limits<T>::infinity();
+      }
       if (device && !live) {  // the device check above scanned the whole pile: nothing is queued
         far_size = 0;
         continue;
@@ -328,7 +411,7 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
       grow(far2, far_size);
       set_sizes<Exec>(sizes, 0, 0);
       parallel_for(exec, (far_size + split_chunk - 1) / split_chunk,
-                   split_fn<T, split_chunk>{keys, flags, fl, far_size, raw(near), raw(far2), raw(sizes), split_at},
+                   split_fn<P, split_chunk>{p, keys, flags, fl, far_size, raw(near), raw(far2), raw(sizes), split_adm},
                    far_size);
       near_size = read<Exec>(raw(sizes));
       far_size = read<Exec>(raw(sizes) + 1);
@@ -346,7 +429,7 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
       set_sizes<Exec>(sizes, next_size, far_size);
       parallel_for(exec, (cnt + chunk - 1) / chunk,
                    expand_fn<P, Accept, chunk>{p, walk, n, keys, flags, raw(near) + s, cnt, raw(next), raw(far), raw(sizes),
-                                               theta, accept, raw(error)},
+                                               adm, accept, raw(error)},
                    cnt * N);
       next_size = read<Exec>(raw(sizes));
       far_size = read<Exec>(raw(sizes) + 1);

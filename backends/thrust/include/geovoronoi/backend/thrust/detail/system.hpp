@@ -10,6 +10,7 @@
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/scan.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -141,33 +142,46 @@ struct self_scheduled {
  * A parallel step ends only when every thread of the team has reached its end. When another
  * process holds a core, a thread of the team may wait for a time slice (milliseconds) while the
  * others, having taken all the work, wait for it; a solve has hundreds of steps, so this can cost
- * seconds (OpenMP threads that spin-wait make it worse). After a step in which the work was done
- * and the team then waited more than half the step and over 0.5 ms for a thread to arrive, the next
- * `backoff` steps run on the calling thread alone, and the backoff doubles while that keeps
- * happening (up to 256 steps); a step without such a wait resets it. The state is process-wide (a
- * busy machine stays busy from one solve to the next), updated with relaxed atomics: it is a
- * scheduling hint, and the results never depend on it. On a quiet machine nothing changes.
+ * seconds (OpenMP threads that spin-wait make it worse). When two parallel steps in a row each
+ * did their work and then waited more than half the step and over 0.5 ms for a thread to arrive,
+ * paced steps run on the calling thread alone for a while: `factor` times the last wait (8 at
+ * first, doubling while it keeps happening, up to 256), and never more than 1 s. A parallel step
+ * without such a wait resets the factor.
+ *
+ * Two rules keep this from feeding on itself. The pause is measured in time, not in steps (steps at
+ * 256^3 last ten times longer than at 128^3, so a pause of 8-256 steps lasted seconds there). And
+ * one waited step is not enough: the first parallel step after a serial stretch (a pause, or the
+ * small steps that always run on the calling thread) also pays for waking the idle worker threads,
+ * which on a virtual machine can take milliseconds; counted, it starts the next pause, which lets
+ * the workers fall idle again. This loop is the likely cause of the 256^3 solves that ran at the
+ * one-thread speed on a quiet machine (docs/backend-thrust.md, "Shared machines"). The state is
+ * process-wide (a busy machine stays busy from one solve to the next),
+ * updated with relaxed atomics: it is a scheduling hint, and the results never depend on it. On a
+ * quiet machine nothing changes.
  */
 struct host_pacing {
-  std::atomic<int> serial_left{0};
-  std::atomic<int> backoff{8};
+  std::atomic<std::int64_t> serial_until{0};  ///< host_clock_ns() before which paced steps run serially
+  std::atomic<int> factor{8};
+  std::atomic<int> strikes{0};  ///< consecutive parallel steps that waited
 
-  /// Whether the next step should run on the calling thread (consumes one serial step).
+  /// Whether the next step should run on the calling thread.
   bool take_serial() noexcept {
-    int left = serial_left.load(std::memory_order_relaxed);
-    while (left > 0)
-      if (serial_left.compare_exchange_weak(left, left - 1, std::memory_order_relaxed)) return true;
-    return false;
+    const std::int64_t until = serial_until.load(std::memory_order_relaxed);
+    return until != 0 && host_clock_ns() < until;
   }
   /// Record how a parallel step went.
   void observe(std::int64_t start, std::int64_t first_idle, std::int64_t stop) noexcept {
     const std::int64_t waited = first_idle ? stop - first_idle : 0;
     if (waited > 500000 && 2 * waited > stop - start) {
-      const int b = backoff.load(std::memory_order_relaxed);
-      serial_left.store(b, std::memory_order_relaxed);
-      backoff.store(b < 256 ? 2 * b : 256, std::memory_order_relaxed);
+      if (strikes.fetch_add(1, std::memory_order_relaxed) < 1) return;
+      strikes.store(0, std::memory_order_relaxed);
+      const int f = factor.load(std::memory_order_relaxed);
+      const std::int64_t pause = std::min<std::int64_t>(std::int64_t(f) * waited, 1000000000);
+      serial_until.store(stop + pause, std::memory_order_relaxed);
+      factor.store(f < 256 ? 2 * f : 256, std::memory_order_relaxed);
     } else {
-      backoff.store(8, std::memory_order_relaxed);
+      strikes.store(0, std::memory_order_relaxed);
+      factor.store(8, std::memory_order_relaxed);
     }
   }
 };
