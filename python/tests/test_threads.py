@@ -48,7 +48,7 @@ def test_gil_is_released_during_a_solve():
 def test_two_threads_solve_concurrently():
     """Two solves in two threads take less wall time than one after the other (best of 3 tries, and a
     generous margin: the machine is shared). Process CPU time over wall time shows the overlap too."""
-    field, seeds = big_problem()
+    field, seeds = big_problem(64)
 
     def one():
         gv.voronoi(field, seeds, backend="seq")
