@@ -354,6 +354,9 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
     if (bridge.error) throw std::move(*bridge.error);
     throw;
   }
+  // defensive: a Python exception caught by the bridge is never dropped, even if the library had
+  // finished when it asked to stop
+  if (bridge.error) throw std::move(*bridge.error);
   bridge.finish();
   // CSR (voxels x nodes), column indices sorted within each row.
   const std::size_t n = std::size_t(g.size()), kk = std::size_t(w.k);
