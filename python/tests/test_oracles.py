@@ -73,17 +73,21 @@ def stencil_graph(field, spacing, conn, metric):
         dst = tuple(slice(max(0, o), field.shape[a] - max(0, -o)) for a, o in enumerate(off))
         length = float(np.sqrt(np.sum((off * np.asarray(spacing)) ** 2)))
         bu, bv = field[src], field[dst]
-        if metric == "min_stiffness":
-            w = length / np.minimum(bu, bv)
-        elif metric == "mean_stiffness":
-            w = 2 * length / (bu + bv)
-        else:  # uniform
-            w = np.full(bu.shape, length)
+        with np.errstate(divide="ignore"):  # masked voxels (0) are dropped below
+            w = _weights(metric, length, bu, bv)
         inside = (bu > 0) & (bv > 0)
         rows.append(idx[src][inside])
         cols.append(idx[dst][inside])
         vals.append(w[inside])
     return scipy.sparse.csr_array((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
+
+
+def _weights(metric, length, bu, bv):
+    if metric == "min_stiffness":
+        return length / np.minimum(bu, bv)
+    if metric == "mean_stiffness":
+        return 2 * length / (bu + bv)
+    return np.full(bu.shape, length)  # uniform
 
 
 @pytest.mark.parametrize("ndim,conn", CASES)

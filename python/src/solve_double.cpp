@@ -1,0 +1,6 @@
+// The double instantiations of the extension's solve wrappers (see bindings.hpp).
+#include "bindings.hpp"
+
+namespace gvpy {
+GEOVORONOI_PY_DECLARE(double, )
+}  // namespace gvpy

@@ -1,0 +1,6 @@
+// The float instantiations of the extension's solve wrappers (see bindings.hpp).
+#include "bindings.hpp"
+
+namespace gvpy {
+GEOVORONOI_PY_DECLARE(float, )
+}  // namespace gvpy
