@@ -29,7 +29,7 @@ echo "== building the Python package (pip install .)"
   --config-settings=build-dir=build-python/wheel --config-settings=cmake.define.GEOVORONOI_PYTHON_WERROR=ON .
 
 if [ -z "${GEOVORONOI_CLI:-}" ]; then
-  for c in build/tools/geovoronoi/geovoronoi build/tools/geovoronoi build/examples/geovoronoi; do
+  for c in build/bin/geovoronoi build/tools/geovoronoi/geovoronoi; do
     if [ -f "$c" ] && [ -x "$c" ]; then export GEOVORONOI_CLI="$PWD/$c"; break; fi
   done
 fi

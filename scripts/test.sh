@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The README's test command: installs what it needs from Debian's packages if missing, builds
 # everything (every backend this machine supports) with -Werror and runs ctest (unit tests, CLI,
-# consumers, and every benchmark once as a smoke test), then builds and runs the tests again under
+# consumers, and every benchmark once as a smoke test), builds the Python package and runs its pytest
+# suite (scripts/test-python.sh), then builds and runs the tests again under
 # AddressSanitizer + UndefinedBehaviorSanitizer, then fuzzes the parsers. Any failure fails it.
 # Prints the time of each stage.
 #
@@ -37,6 +38,10 @@ cmake --build build -j"$jobs"
 stage_done "release build"
 ctest --test-dir build --output-on-failure -j"$jobs"
 stage_done "release ctest"
+
+echo "== Python package (pip install . into build-python/venv, pytest)"
+scripts/test-python.sh
+stage_done "python package"
 
 echo "== ASan + UBSan build (tests only)"
 cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGEOVORONOI_SANITIZE=ON -DGEOVORONOI_WERROR=ON \
