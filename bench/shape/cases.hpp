@@ -39,7 +39,9 @@ inline double peak_rss_mb() {
  * path that materialises every cell through insert_queries and re-reads it (the code before the fused
  * search), so one benchmark run can compare the two.
  */
-struct materialise_seq_t {};
+struct materialise_seq_t {
+  using backend_policy_tag = void;  // a backend policy (policy.hpp) that forwards to seq
+};
 template <class P, class S, class O>
 auto backend_solve(materialise_seq_t, const P& p, const S& s, const O& o) {
   return backend_solve(gv::seq, p, s, o);
