@@ -10,6 +10,7 @@
 #include <geovoronoi/image.hpp>
 #include <geovoronoi/metric.hpp>
 #include <geovoronoi/phantom.hpp>
+#include <geovoronoi/policy.hpp>
 #include <geovoronoi/problem.hpp>
 #include <geovoronoi/result.hpp>
 #include <geovoronoi/shape_functions.hpp>
