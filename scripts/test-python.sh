@@ -33,7 +33,7 @@ if [ -z "${GEOVORONOI_CLI:-}" ]; then
     if [ -f "$c" ] && [ -x "$c" ]; then export GEOVORONOI_CLI="$PWD/$c"; break; fi
   done
 fi
-echo "== Python tests (pytest; C++ tool: ${GEOVORONOI_CLI:-none found, its parity tests will be skipped})"
+echo "== Python tests (pytest; C++ tool: ${GEOVORONOI_CLI:-none in build/, the parity tests look in build-python/cli too and skip without one})"
 rc=0
 (cd python/tests && "../../$venv/bin/python" -m pytest -q -p no:cacheprovider .) || rc=$?
 if [ "$rc" -eq 5 ]; then

@@ -100,8 +100,17 @@ def test_exception_in_progress_cancels_and_propagates():
     assert gv.voronoi(field, seeds, backend="seq").label.max() == len(seeds) - 1
 
 
+@pytest.fixture
+def sigint_raises():
+    """Python's own Ctrl-C handler: a process started in the background (`cmd &` in a script, as CI
+    may do) inherits SIGINT as ignored, and then Python installs no handler."""
+    old = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, old)
+
+
 @pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals need the main thread")
-def test_ctrl_c_cancels_a_long_computation():
+def test_ctrl_c_cancels_a_long_computation(sigint_raises):
     """SIGINT (what Ctrl-C sends), from another process, during a computation that would take ~30 s:
     the next progress report runs Python's signal handler and cancels it."""
     field, seeds = long_shape_problem()
@@ -117,7 +126,8 @@ def test_ctrl_c_cancels_a_long_computation():
     assert gv.voronoi(field, seeds, backend="seq").distance.dtype == np.float32
 
 
-def test_sigint_raised_in_the_progress_callable_cancels():
+@pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals need the main thread")
+def test_sigint_raised_in_the_progress_callable_cancels(sigint_raises):
     field, seeds = long_shape_problem()
     seen = []
 
