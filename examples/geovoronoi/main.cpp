@@ -13,6 +13,7 @@
 #include "solve.hpp"
 
 #include <geovoronoi.hpp>
+#include <geovoronoi/backend/choose.hpp>
 #include <geovoronoi/io/png.hpp>
 #include <geovoronoi/io/read.hpp>
 #include <geovoronoi/shape_functions.hpp>
@@ -194,6 +195,12 @@ job load_job(const gvcli::arguments& a) {
     used[v] = r.line;
     j.seeds.push_back(c);
   }
+  if (!a.has("--backend"))  // the default follows measurement, per problem (docs/backends.md)
+    gvcli::with_problem(j.spec(), [&](const auto& p) {
+      const bool gpu = GV_CLI_HAVE_CUDA && cuda_problem().empty();
+      const auto k = gv::recommended_backend(p, std::thread::hardware_concurrency(), gpu);
+      j.backend = is_built(gv::to_string(k)) ? gv::to_string(k) : "seq";
+    });
   return j;
 }
 
