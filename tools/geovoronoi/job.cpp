@@ -4,6 +4,7 @@
 #include "outputs.hpp"
 #include "seed_file.hpp"
 
+#include <geovoronoi/backend/choose.hpp>
 #include <geovoronoi/io/read.hpp>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <regex>
+#include <thread>
 
 namespace gvcli {
 
@@ -95,6 +97,16 @@ job load_job(const arguments& a) {
     }
     j.seeds.push_back(c);
     j.seed_lines.push_back(r.line);
+  }
+  if (!a.has("--backend")) {  // the default follows measurement, per problem (docs/backends.md)
+    bool gpu = false;
+    for (const auto& b : backends())
+      if (std::string(b.name) == "cuda" && b.built && b.unavailable().empty()) gpu = true;
+    with_problem(j.spec(), [&](const auto& p) {
+      const auto k = gv::recommended_backend(p, std::thread::hardware_concurrency(), gpu);
+      for (const auto& b : backends())
+        if (b.built && std::string(b.name) == gv::to_string(k) && b.unavailable().empty()) j.solver = &b;
+    });
   }
   return j;
 }
