@@ -154,6 +154,54 @@ foreach(method sibson distance-ratio laplace)
   endif()
 endforeach()
 
+# --at: weights only at chosen points. With every voxel as a point, in linear order, the points x nodes
+# CSR files are byte for byte the per-voxel ones (the rows of the full computation); world points
+# round to the nearest voxel centre like --world seeds, so jittered world points give the same rows.
+set(all_points "")
+foreach(z RANGE 3)
+  foreach(y RANGE 9)
+    foreach(x RANGE 11)
+      string(APPEND all_points "${x},${y},${z}\n")
+    endforeach()
+  endforeach()
+endforeach()
+file(WRITE ${WORK}/all_points.csv "${all_points}")
+file(WRITE ${WORK}/few_points.csv "5,1,0\n3,3,2\n5,1,0\n11,9,3\n")
+file(WRITE ${WORK}/few_world.csv "5.3,0.8,0.1\n2.6,3.4,2.2\n4.9,1.2,-0.3\n11.1,8.7,3.0\n")
+file(WRITE ${WORK}/seeds_world.csv "2.0,2.1,1.0\n9.2,6.9,2.0\n4.1,8.0,3.0\n")
+foreach(method sibson distance-ratio laplace)
+  run(at_all_${method} 0 shape-functions --stiffness stiff.pgm --extrude 4 --seeds seeds.csv --method ${method}
+      --nodes-per-voxel 3 --at all_points.csv --out out-at-${method})
+  foreach(f indptr indices data)
+    file(READ ${WORK}/out-at-${method}/weights_at_${f}.npy at_bytes HEX)
+    file(READ ${WORK}/out-${method}/weights_${f}.npy full_bytes HEX)
+    if(NOT at_bytes STREQUAL full_bytes)
+      fail("${method}: weights_at_${f}.npy of every voxel differs from weights_${f}.npy")
+    endif()
+  endforeach()
+  if(EXISTS ${WORK}/out-at-${method}/weights.mhd)
+    fail("${method} --at also wrote the per-voxel weights.mhd")
+  endif()
+  run(at_few_${method} 0 shape-functions --stiffness stiff.pgm --extrude 4 --seeds seeds.csv --method ${method}
+      --nodes-per-voxel 3 --at few_points.csv --out out-atf-${method})
+  run(at_world_${method} 0 shape-functions --stiffness stiff.pgm --extrude 4 --seeds seeds_world.csv --world
+      --method ${method} --nodes-per-voxel 3 --at few_world.csv --out out-atw-${method})
+  file(READ ${WORK}/out-atf-${method}/weights_at.csv few_csv)
+  file(READ ${WORK}/out-atw-${method}/weights_at.csv world_csv)
+  if(NOT few_csv STREQUAL world_csv)
+    fail("${method}: --world points give other weights than their voxels:\n${few_csv}\nvs\n${world_csv}")
+  endif()
+  # point 0 and point 2 are the same voxel; point 3 is the masked corner (no weights, no line)
+  string(REGEX MATCHALL "\n0,[^\n]*" rows0 "${few_csv}")
+  string(REGEX MATCHALL "\n2,[^\n]*" rows2 "${few_csv}")
+  string(REPLACE "\n0," "\nX," rows0 "${rows0}")
+  string(REPLACE "\n2," "\nX," rows2 "${rows2}")
+  if(NOT few_csv MATCHES "^point,node,weight\n0," OR rows0 STREQUAL "" OR NOT rows0 STREQUAL rows2
+     OR few_csv MATCHES "\n3,")
+    fail("${method}: weights_at.csv rows:\n${few_csv}")
+  endif()
+endforeach()
+
 # --picture-node picks the node whose weight is pictured
 run(picture_node 0 shape-functions --stiffness stiff.pgm --extrude 4 --seeds seeds.csv --method distance-ratio
     --picture-node 2 --out out-picture-node)
@@ -352,6 +400,8 @@ set(cases
   "bad_k|shape-functions,${SC},--seeds,seeds.csv,--method,sibson,--nodes-per-voxel,0,--out,x24|--nodes-per-voxel"
   "demo_bad_option|demo,--size,3|unknown option"
   "bad_picture_node|shape-functions,${SC},--seeds,seeds.csv,--method,sibson,--picture-node,3,--out,x25|--picture-node 3"
+  "at_outside|shape-functions,${SC},--seeds,seeds.csv,--method,sibson,--at,outside.csv,--out,x26|outside.csv:2: point (40"
+  "at_empty|shape-functions,${SC},--seeds,seeds.csv,--method,sibson,--at,empty.csv,--out,x27|no points in the file"
   "help_unknown|help,frobnicate|unknown command 'frobnicate'"
   "help_two|help,voronoi,demo|at most one"
 )

@@ -13,4 +13,9 @@ gv::shape_weights<float, 3> thrust_shape(const problem_spec& s, const gv::diagra
   return solve_shape(gv::thrust::par, s, d, opt);
 }
 
+gv::point_weights<float> thrust_shape_at(const problem_spec& s, const gv::diagram<float, 3>& d, const point_spec& at,
+                                   const gv::shape_options& opt) {
+  return solve_shape_at(gv::thrust::par, s, d, at, opt);
+}
+
 }  // namespace gvcli

@@ -30,16 +30,16 @@ bool cuda_usable() { return cuda_problem().empty(); }
 
 const std::vector<backend>& backends() {
   static const std::vector<backend> table = {
-      {"seq", true, [] { return std::string("sequential Dijkstra"); }, runs_here, always, seq_voronoi, seq_shape},
+      {"seq", true, [] { return std::string("sequential Dijkstra"); }, runs_here, always, seq_voronoi, seq_shape, seq_shape_at},
 #if defined(GEOVORONOI_CLI_THRUST)
-      {"thrust", true, threads_text, runs_here, several_threads, thrust_voronoi, thrust_shape},
+      {"thrust", true, threads_text, runs_here, several_threads, thrust_voronoi, thrust_shape, thrust_shape_at},
 #else
-      {"thrust", false, nullptr, nullptr, nullptr, nullptr, nullptr},
+      {"thrust", false, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
 #endif
 #if defined(GEOVORONOI_CLI_CUDA)
-      {"cuda", true, cuda_text, cuda_problem, cuda_usable, cuda_voronoi, cuda_shape},
+      {"cuda", true, cuda_text, cuda_problem, cuda_usable, cuda_voronoi, cuda_shape, cuda_shape_at},
 #else
-      {"cuda", false, nullptr, nullptr, nullptr, nullptr, nullptr},
+      {"cuda", false, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
 #endif
   };
   return table;

@@ -21,6 +21,8 @@ struct backend {
   bool (*worth_default)();
   gv::diagram<float, 3> (*voronoi)(const problem_spec&);
   gv::shape_weights<float, 3> (*shape)(const problem_spec&, const gv::diagram<float, 3>&, const gv::shape_options&);
+  gv::point_weights<float> (*shape_at)(const problem_spec&, const gv::diagram<float, 3>&, const point_spec&,
+                                       const gv::shape_options&);
 };
 
 /// Every backend the tool knows, slowest first: seq, thrust, cuda.

@@ -33,4 +33,9 @@ gv::shape_weights<float, 3> cuda_shape(const problem_spec& s, const gv::diagram<
   return solve_shape(gv::cuda::par, s, d, opt);
 }
 
+gv::point_weights<float> cuda_shape_at(const problem_spec& s, const gv::diagram<float, 3>& d, const point_spec& at,
+                                 const gv::shape_options& opt) {
+  return solve_shape_at(gv::cuda::par, s, d, at, opt);
+}
+
 }  // namespace gvcli

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
 #include <vector>
 
 namespace gvcli {
@@ -98,6 +99,27 @@ void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, c
       if (w.node[v * k + s] == png_node) one[index_t(v)] = float(w.weight[v * k + s]);
   gio::write_png(dir + "/weight_node" + std::to_string(png_node) + ".png",
                  gio::weight_picture(one, png_node, d.seeds, pc.options(method + " SHAPE FUNCTION")));
+}
+
+void write_shape_at(const std::string& dir, const gv::point_weights<float>& w) {
+  auto m = w.to_sparse_matrix();
+  m.makeCompressed();
+  std::vector<std::int64_t> indptr(std::size_t(m.rows()) + 1);
+  for (std::size_t r = 0; r < indptr.size(); ++r) indptr[r] = m.outerIndexPtr()[r];
+  std::vector<std::int32_t> indices(m.innerIndexPtr(), m.innerIndexPtr() + m.nonZeros());
+  std::vector<float> data(m.valuePtr(), m.valuePtr() + m.nonZeros());
+  gio::write_npy(dir + "/weights_at_indptr.npy", indptr);
+  gio::write_npy(dir + "/weights_at_indices.npy", indices);
+  gio::write_npy(dir + "/weights_at_data.npy", data);
+  const std::string path = dir + "/weights_at.csv";
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) throw std::runtime_error(path + ": cannot create the file");
+  bool ok = std::fputs("point,node,weight\n", f) >= 0;
+  for (std::size_t r = 0; ok && r + 1 < indptr.size(); ++r)
+    for (auto e = indptr[r]; ok && e < indptr[r + 1]; ++e)
+      ok = std::fprintf(f, "%zu,%d,%.9g\n", r, int(indices[std::size_t(e)]), double(data[std::size_t(e)])) > 0;
+  ok = std::fclose(f) == 0 && ok;
+  if (!ok) throw std::runtime_error(path + ": write failed");
 }
 
 void summary(const char* what, const gv::grid<3>& g, std::size_t seeds, const std::string& backend, double seconds,

@@ -44,6 +44,10 @@ void write_voronoi(const output_dir& out, const gv::diagram<float, 3>& d, const 
 /// indices_sofa_planar.mhd, weights_sofa_planar.mhd (K planar channels, SOFA's layout), weights.vti
 /// (K-component weights and nodes arrays), weights_*.npy (CSR), weight_node<png_node>.png (titled
 /// "@p method SHAPE FUNCTION"; voxels without any weight drawn as outside).
+/// Writes the weights at chosen points (shape-functions --at) into @p dir: weights_at_indptr/indices/
+/// data.npy (points x nodes CSR) and weights_at.csv (point,node,weight).
+void write_shape_at(const std::string& dir, const gv::point_weights<float>& w);
+
 void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, const gv::diagram<float, 3>& d,
                  int png_node, const picture_context& pc, const std::string& method);
 

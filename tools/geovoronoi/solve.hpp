@@ -72,20 +72,45 @@ gv::shape_weights<float, 3> solve_shape(const Policy& policy, const problem_spec
   return w;
 }
 
+/// Points at which shape_functions_at() evaluates: voxel coordinates, or world points when @p world.
+struct point_spec {
+  std::vector<gv::coord<3>> voxels;
+  std::vector<gv::point<3>> world_points;
+  bool world = false;
+};
+
+/// The shape functions of @p s at the points @p at on the backend @p policy, given its diagram @p d.
+template <class Policy>
+gv::point_weights<float> solve_shape_at(const Policy& policy, const problem_spec& s, const gv::diagram<float, 3>& d,
+                                        const point_spec& at, const gv::shape_options& opt) {
+  gv::point_weights<float> w;
+  with_problem(s, [&](const auto& p) {
+    w = at.world ? gv::shape_functions_at(policy, p, d, at.world_points, opt)
+                 : gv::shape_functions_at(policy, p, d, at.voxels, opt);
+  });
+  return w;
+}
+
 // ---- each backend's entry points (backend_seq.cpp, backend_thrust.cpp, cuda.cu) ----------------
 // Defined only when that backend is built (see backends.cpp, the table that uses them).
 
 gv::diagram<float, 3> seq_voronoi(const problem_spec& s);
 gv::shape_weights<float, 3> seq_shape(const problem_spec& s, const gv::diagram<float, 3>& d,
                                       const gv::shape_options& opt);
+gv::point_weights<float> seq_shape_at(const problem_spec& s, const gv::diagram<float, 3>& d, const point_spec& at,
+                                const gv::shape_options& opt);
 gv::diagram<float, 3> thrust_voronoi(const problem_spec& s);
 gv::shape_weights<float, 3> thrust_shape(const problem_spec& s, const gv::diagram<float, 3>& d,
                                          const gv::shape_options& opt);
+gv::point_weights<float> thrust_shape_at(const problem_spec& s, const gv::diagram<float, 3>& d, const point_spec& at,
+                                   const gv::shape_options& opt);
 /// Whether a CUDA device can be used: an empty string when it can (then @p device holds its name),
 /// else why not (no device, no driver, ...). Never throws.
 std::string cuda_unavailable_reason(std::string* device = nullptr);
 gv::diagram<float, 3> cuda_voronoi(const problem_spec& s);
 gv::shape_weights<float, 3> cuda_shape(const problem_spec& s, const gv::diagram<float, 3>& d,
                                        const gv::shape_options& opt);
+gv::point_weights<float> cuda_shape_at(const problem_spec& s, const gv::diagram<float, 3>& d, const point_spec& at,
+                                 const gv::shape_options& opt);
 
 }  // namespace gvcli

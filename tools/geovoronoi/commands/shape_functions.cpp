@@ -2,6 +2,9 @@
 #include "../command.hpp"
 #include "../job.hpp"
 #include "../outputs.hpp"
+#include "../seed_file.hpp"
+
+#include <cmath>
 
 namespace gvcli {
 
@@ -14,13 +17,55 @@ gv::shape_method parse_method(const std::string& m) {
   throw usage_error("unknown method '" + m + "' (distance-ratio, sibson or laplace)");
 }
 
+/// The points of --at FILE as voxels of @p g: CSV rows like the seed file's, voxel indices, or world
+/// coordinates rounded to the nearest voxel centre with --world (grid::nearest_voxel, as the seeds and
+/// the library's shape_functions_at for world points). A point outside the grid is a usage error
+/// naming its line.
+std::vector<gv::coord<3>> read_points(const std::string& path, bool world, const gv::grid<3>& g) {
+  std::vector<seed_row> rows;
+  try {
+    rows = read_seed_rows(path, !world);
+  } catch (const usage_error& e) {  // the reader speaks of seeds; these are points
+    std::string m = e.what();
+    for (const auto& [from, to] : {std::pair<std::string, std::string>{"the seed file", "the points file"},
+                                   {"no seeds in the file", "no points in the file"}})
+      if (const auto at = m.find(from); at != std::string::npos) m.replace(at, from.size(), to);
+    throw usage_error(m);
+  }
+  std::vector<gv::coord<3>> out;
+  out.reserve(rows.size());
+  for (const auto& r : rows) {
+    const std::string where = path + ":" + std::to_string(r.line) + ": point ";
+    if (r.count == 2 && g.extent(2) != 1)
+      throw usage_error(where + "has 2 values but the volume has " + std::to_string(g.extent(2)) + " slices");
+    gv::coord<3> c;
+    if (world) {
+      c = g.nearest_voxel({r.x[0], r.x[1], r.x[2]});
+    } else {
+      for (int k = 0; k < 3; ++k) {
+        if (std::abs(r.x[k]) > 9e15) throw usage_error(where + "coordinate out of range");
+        c[k] = gv::index_t(r.x[k]);
+      }
+    }
+    if (!g.contains(c))
+      throw usage_error(where + "(" + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," + std::to_string(c[2]) +
+                        ") lies outside the grid " + std::to_string(g.extent(0)) + "x" + std::to_string(g.extent(1)) +
+                        "x" + std::to_string(g.extent(2)));
+    out.push_back(c);
+  }
+  return out;
+}
+
 int run(const std::vector<std::string>& args) {
-  const arguments a(args, solve_options({"--method", "--nodes-per-voxel", "--picture-node"}), solve_flags());
+  const arguments a(args, solve_options({"--method", "--nodes-per-voxel", "--picture-node", "--at"}), solve_flags());
   const auto method = parse_method(a.require("--method"));
   const int k = int(a.integer("--nodes-per-voxel", 4, 1, 64));
   const int picture_node = int(a.integer("--picture-node", 0, 0, 1 << 30));
-  // checked before any work: the node must exist
+  const std::string at_path = a.get("--at", "");
+  point_spec at;
+  // checked before any work: the node must exist, the points must parse and lie in the grid
   auto check = [&](const job& j) {
+    if (!at_path.empty()) at.voxels = read_points(at_path, a.has("--world"), j.field.geometry());
     if (std::size_t(picture_node) >= j.seeds.size())
       throw usage_error("--picture-node " + std::to_string(picture_node) + ": must be less than the number of nodes (" +
                         std::to_string(j.seeds.size()) + ")");
@@ -35,6 +80,12 @@ int run(const std::vector<std::string>& args) {
                              bar.set_fraction(f);
                              return true;
                            };
+                           if (!at.voxels.empty()) {  // only the chosen points' rows
+                             const auto w = j.solver->shape_at(j.spec(), d, at, opt);
+                             bar.update("writing");
+                             write_shape_at(out.subdir("."), w);
+                             return;
+                           }
                            const auto w = j.solver->shape(j.spec(), d, opt);
                            bar.update("writing");
                            write_shape(out.subdir("."), w, d, picture_node, j.pictures(), method_name(method));
@@ -54,6 +105,9 @@ const command shape_functions_command = {
     "  --method M          distance-ratio, sibson or laplace (required)\n"
     "  --nodes-per-voxel K the most nodes a voxel keeps, 1..64 (default: 4)\n"
     "  --picture-node N    the node whose weight weight_node<N>.png shows, 0 to nodes - 1 (default: 0)\n"
+    "  --at FILE           weights only at the points of FILE (CSV, one point per line: voxel indices\n"
+    "                      i,j,k, or world coordinates with --world, rounded to the nearest voxel\n"
+    "                      centre); writes the weights_at files below instead of the per-voxel ones\n"
     "  --stiffness FILE, --seeds FILE, --out DIR (required); --metric M (default: min_stiffness),\n"
     "  --connectivity N (default: 26), --backend B (default: the fastest built one that runs here),\n"
     "  --world, --extrude N (default: 1), --help\n"
@@ -69,6 +123,10 @@ const command shape_functions_command = {
     "  weights_indptr.npy, weights_indices.npy, weights_data.npy\n"
     "                      the voxels x nodes matrix in CSR form (scipy.sparse.csr_matrix)\n"
     "  weight_node<N>.png  node N's weight (--picture-node) on the three mid-slices\n"
+    "with --at FILE, instead of the per-voxel weight files:\n"
+    "  weights_at_indptr.npy, weights_at_indices.npy, weights_at_data.npy\n"
+    "                      the points x nodes matrix in CSR form (row i: line i of FILE's points)\n"
+    "  weights_at.csv      point,node,weight per line (point: 0-based row of FILE's points)\n"
     "\n"
     "example:\n"
     "  geovoronoi shape-functions --stiffness demo-out/stiffness.mhd --seeds demo-out/seeds.csv \\\n"
