@@ -1,8 +1,10 @@
 #pragma once
 // Plumbing of the geovoronoi command-line tool: argument parsing, bad-input errors, seed files,
-// the progress bar, and the temporary output folder that is renamed into place only when complete.
+// the progress bar. The output folder is in output_dir.hpp, the exit-code contract in errors.hpp.
 
-#include "solve.hpp"  // usage_error
+#include "errors.hpp"      // require_regular_file
+#include "output_dir.hpp"  // output_dir
+#include "solve.hpp"       // usage_error
 
 #include <geovoronoi/io/common.hpp>
 
@@ -85,7 +87,9 @@ struct seed_row {
 
 /// Reads `i,j,k` (or `x,y,z` in world units) per line; `#` starts a comment; blank lines are skipped.
 /// Two values are accepted for single-slice volumes (k = 0).
+/// A UTF-8 byte-order mark at the start (Excel's "CSV UTF-8") is skipped.
 inline std::vector<seed_row> read_seed_rows(const std::string& path, bool integers) {
+  require_regular_file(path, "a seed file");
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw usage_error(path + ": cannot open the seed file");
   std::string text;
@@ -98,9 +102,11 @@ inline std::vector<seed_row> read_seed_rows(const std::string& path, bool intege
       throw usage_error(path + ": seed file larger than 1 GiB");
     }
   }
+  const bool read_error = std::ferror(f) != 0;
   std::fclose(f);
+  if (read_error) throw usage_error(path + ": cannot read the seed file");
   std::vector<seed_row> rows;
-  std::size_t pos = 0;
+  std::size_t pos = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
   int line = 0;
   while (pos < text.size()) {
     auto end = text.find('\n', pos);
@@ -197,70 +203,6 @@ class progress_bar {
   std::atomic<bool> stop_{false};
   bool drawn_ = false;
   std::thread ticker_;
-};
-
-/// The output folder: everything is written to DIR.partial-<pid> and moved into DIR by commit();
-/// if the command fails, the partial folder is removed, so no half-written output looks complete.
-class output_dir {
- public:
-  explicit output_dir(const std::string& dir) : final_(dir) {
-    if (dir.empty()) throw usage_error("--out needs a folder name");
-    if (fs::exists(final_) && !fs::is_directory(final_)) throw usage_error(dir + ": exists and is not a folder");
-    fs::path parent = final_.parent_path();
-    if (!parent.empty() && !fs::is_directory(parent))
-      throw usage_error(dir + ": the parent folder " + parent.string() + " does not exist");
-    temp_ = final_;
-    temp_ += ".partial-" + std::to_string(::getpid());
-    std::error_code ec;
-    fs::remove_all(temp_, ec);
-    if (!fs::create_directory(temp_, ec) || ec) throw usage_error(dir + ": cannot create the output folder " + temp_.string());
-  }
-  ~output_dir() {
-    if (!committed_) {
-      std::error_code ec;
-      fs::remove_all(temp_, ec);
-    }
-  }
-  output_dir(const output_dir&) = delete;
-  output_dir& operator=(const output_dir&) = delete;
-
-  /// Path of a file (or subfolder, created) inside the temporary folder.
-  std::string file(const std::string& name) const { return (temp_ / name).string(); }
-  std::string subdir(const std::string& name) const {
-    fs::create_directories(temp_ / name);
-    return (temp_ / name).string();
-  }
-
-  /// Moves the finished outputs into place: the whole folder when DIR does not exist (or is empty),
-  /// else file by file (each rename replaces the old file at once).
-  void commit() {
-    std::error_code ec;
-    if (fs::exists(final_) && fs::is_empty(final_)) fs::remove(final_, ec);
-    if (!fs::exists(final_)) {
-      fs::rename(temp_, final_, ec);
-      if (ec) throw std::runtime_error(final_.string() + ": cannot move the outputs into place: " + ec.message());
-    } else {
-      move_into(temp_, final_);
-      fs::remove_all(temp_, ec);
-    }
-    committed_ = true;
-  }
-
- private:
-  static void move_into(const fs::path& from, const fs::path& to) {
-    for (const auto& e : fs::directory_iterator(from)) {
-      const fs::path target = to / e.path().filename();
-      if (e.is_directory()) {
-        if (fs::exists(target) && !fs::is_directory(target)) fs::remove(target);
-        fs::create_directories(target);
-        move_into(e.path(), target);
-      } else {
-        fs::rename(e.path(), target);
-      }
-    }
-  }
-  fs::path final_, temp_;
-  bool committed_ = false;
 };
 
 }  // namespace gvcli

@@ -7,9 +7,11 @@
 //   geovoronoi demo [--out DIR] [--backend B]
 //   geovoronoi backends
 //
-// Exit codes: 0 success, 2 bad input (one line on stderr naming the problem), 1 anything else.
+// Exit codes (errors.hpp): 0 success, 2 usage or bad input, 1 runtime failure; one line on stderr.
 
 #include "cli.hpp"
+#include "errors.hpp"
+#include "output_dir.hpp"
 #include "solve.hpp"
 
 #include <geovoronoi.hpp>
@@ -157,7 +159,7 @@ struct picture_context {
 
 /// Everything a solve needs, validated.
 struct job {
-  std::string stiffness_path, backend, metric = "min_stiffness", out;
+  std::string stiffness_path, seeds_path, backend, metric = "min_stiffness", out;
   int connectivity = 26;
   gv::image<float, 3> field;
   std::vector<gv::coord<3>> seeds;
@@ -168,7 +170,7 @@ struct job {
 job load_job(const gvcli::arguments& a) {
   job j;
   j.stiffness_path = a.require("--stiffness");
-  const std::string seeds_path = a.require("--seeds");
+  const std::string seeds_path = j.seeds_path = a.require("--seeds");
   j.out = a.require("--out");
   j.metric = a.get("--metric", "min_stiffness");
   gvcli::with_metric(j.metric, [](auto) {});
@@ -180,6 +182,7 @@ job load_job(const gvcli::arguments& a) {
   if (a.has("--extrude") && !picture) throw usage_error("--extrude applies to .pgm/.ppm pictures only");
   gio::read_options ro;
   ro.extrude = index_t(a.integer("--extrude", 1, 1, 100000));
+  gvcli::require_regular_file(j.stiffness_path, "a stiffness file");
   auto vol = gio::read_volume<float>(j.stiffness_path, ro);
   if (vol.channels != 1)
     throw usage_error(j.stiffness_path + ": has " + std::to_string(vol.channels) + " channels; a stiffness image needs 1");
@@ -327,7 +330,7 @@ int solve_and_write(const char* command, const gvcli::arguments& a, Check&& chec
   bar.update("reading");
   const job j = load_job(a);
   check(j);
-  gvcli::output_dir out(j.out);
+  gvcli::output_dir out(j.out, {j.stiffness_path, j.seeds_path}, std::string("geovoronoi ") + command);
   bar.update("voronoi");
   const auto d = run_voronoi(j.backend, j.spec());
   bar.update("writing");
@@ -444,7 +447,7 @@ int cmd_demo(const std::vector<std::string>& args) {
   const gv::grid<3> gh = full_sibson ? g : gv::grid<3>({64, 48, 16}, {2.0, 2.0, 2.0});
   const auto field_h = gv::phantom::steak(gh);
   const auto seeds_h = full_sibson ? seeds : resample_seeds(g, seeds, field_h);
-  gvcli::output_dir out(dir);
+  gvcli::output_dir out(dir, {}, "geovoronoi demo");
   gio::write_metaimage(out.file("stiffness.mhd"), field);
   write_seeds(out.file("seeds.csv"), seeds, "stiffness.mhd");
   std::printf("demo: steak phantom %lldx%lldx%lld (Sibson: %lldx%lldx%lld), %zu nodes, backend %s\n",
@@ -508,6 +511,7 @@ int cmd_demo(const std::vector<std::string>& args) {
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   try {
+    gvcli::clamp_thread_count();
     if (args.empty()) throw usage_error("missing command (voronoi, shape-functions, demo or backends; --help for usage)");
     const std::string cmd = args.front();
     args.erase(args.begin());
@@ -524,17 +528,7 @@ int main(int argc, char** argv) {
     if (cmd == "demo") return cmd_demo(args);
     if (cmd == "backends") return cmd_backends(args);
     throw usage_error("unknown command '" + cmd + "' (voronoi, shape-functions, demo or backends; --help for usage)");
-  } catch (const usage_error& e) {
-    std::fprintf(stderr, "geovoronoi: error: %s\n", e.what());
-    return 2;
-  } catch (const gio::io_error& e) {
-    std::fprintf(stderr, "geovoronoi: error: %s\n", e.what());
-    return 2;
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "geovoronoi: error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "geovoronoi: failed: %s\n", e.what());
-    return 1;
+  } catch (...) {
+    return gvcli::report_current_exception();  // one line, exit 1 or 2 (errors.hpp)
   }
 }
