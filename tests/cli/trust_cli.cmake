@@ -80,6 +80,7 @@ if(NOT ERR_ok STREQUAL "" OR NOT EXISTS ${WORK}/out-ok/.geovoronoi-output OR NOT
   fail("ok: stderr '${ERR_ok}' or outputs/marker missing")
 endif()
 file(SHA256 ${WORK}/out-ok/label.raw ok_labels)
+file(SHA256 ${WORK}/out-ok/distance.raw ok_distances)
 no_leftovers(ok)
 
 # `--out newdir/` creates newdir
@@ -200,6 +201,28 @@ foreach(b ${BUILT})
     fail("OMP_NUM_THREADS=100000: no note about the clamp: ${err}")
   endif()
 endforeach()
+
+# --threads N: a usage error outside 1 .. 4 x hardware threads; the same bits for every N
+run(threads_zero 2 voronoi ${S} --seeds seeds.csv --threads 0 --out x5)
+one_line(threads_zero "option --threads must be an integer from 1 to")
+run(threads_huge 2 voronoi ${S} --seeds seeds.csv --threads 100000 --out x6)
+one_line(threads_huge "option --threads must be an integer from 1 to")
+if("thrust" IN_LIST BUILT)
+  foreach(t 1 2 3)
+    run(threads_${t} 0 voronoi ${S} --seeds seeds.csv --backend thrust --threads ${t} --out out-threads-${t})
+    if(EXISTS ${WORK}/out-threads-${t}/label.raw)
+      file(SHA256 ${WORK}/out-threads-${t}/label.raw h)
+      file(SHA256 ${WORK}/out-threads-${t}/distance.raw hd)
+      if(NOT h STREQUAL ok_labels OR NOT hd STREQUAL ok_distances)
+        fail("--backend thrust --threads ${t}: label.raw or distance.raw differs from seq's")
+      endif()
+    endif()
+  endforeach()
+endif()
+file(GLOB leftovers LIST_DIRECTORIES true ${WORK}/x[0-9]*)
+if(leftovers)
+  fail("bad --threads runs left outputs behind: ${leftovers}")
+endif()
 
 # ---- concurrent runs on one folder: exactly one complete run, the others fail with one line -------
 set(n 6)

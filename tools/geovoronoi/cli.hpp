@@ -78,6 +78,18 @@ class arguments {
   std::map<std::string, std::string> values_;
 };
 
+/// `--threads N`: how many OpenMP threads the thrust backend uses, 1 to max_threads() (4 x the
+/// hardware threads); overrides OMP_NUM_THREADS. No effect on seq (one thread) or cuda.
+inline void use_threads(const arguments& a) {
+  if (!a.has("--threads")) return;
+  const int n = int(a.integer("--threads", 0, 1, max_threads()));
+#if defined(_OPENMP)
+  omp_set_num_threads(n);
+#else
+  (void)n;
+#endif
+}
+
 /// One seed as read from the CSV file: up to three numbers and the line it came from.
 struct seed_row {
   double x[3] = {0, 0, 0};

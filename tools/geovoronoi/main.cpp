@@ -1,7 +1,7 @@
 // geovoronoi: the command-line tool (see docs/cli.md).
 //
 //   geovoronoi voronoi --stiffness F --seeds S.csv [--metric M] [--connectivity 6|18|26]
-//                      [--backend seq|thrust|cuda] [--world] [--extrude N] --out DIR
+//                      [--backend seq|thrust|cuda] [--threads N] [--world] [--extrude N] --out DIR
 //   geovoronoi shape-functions --stiffness F --seeds S.csv --method distance-ratio|sibson|laplace
 //                      [--nodes-per-voxel K] [same options] --out DIR
 //   geovoronoi demo [--out DIR] [--backend B]
@@ -49,10 +49,11 @@ namespace {
 const char* const usage_text =
     "usage:\n"
     "  geovoronoi voronoi --stiffness F --seeds S.csv [--metric min_stiffness|mean_stiffness|mean_cost|uniform]\n"
-    "                     [--connectivity 6|18|26] [--backend seq|thrust|cuda] [--world] [--extrude N] --out DIR\n"
+    "                     [--connectivity 6|18|26] [--backend seq|thrust|cuda] [--threads N] [--world] [--extrude N]\n"
+    "                     --out DIR\n"
     "  geovoronoi shape-functions --stiffness F --seeds S.csv --method distance-ratio|sibson|laplace\n"
     "                     [--nodes-per-voxel K] [--picture-node N] [same options] --out DIR\n"
-    "  geovoronoi demo [--out DIR] [--backend B]\n"
+    "  geovoronoi demo [--out DIR] [--backend B] [--threads N]\n"
     "  geovoronoi backends      (which backends this binary has, and the default)\n"
     "F: .mhd, .mha, .npy, or .pgm/.ppm (with --extrude N for N slices). S.csv: one seed per line, i,j,k.\n";
 
@@ -177,6 +178,7 @@ job load_job(const gvcli::arguments& a) {
   j.connectivity = int(a.integer("--connectivity", 26, 0, 1000));
   gvcli::with_connectivity(j.connectivity, [](auto) {});
   j.backend = pick_backend(a);
+  gvcli::use_threads(a);
   const std::string ext = gio::detail::extension(j.stiffness_path);
   const bool picture = ext == ".pgm" || ext == ".ppm" || ext == ".pnm";
   if (a.has("--extrude") && !picture) throw usage_error("--extrude applies to .pgm/.ppm pictures only");
@@ -318,7 +320,7 @@ void summary(const char* what, const gv::grid<3>& g, std::size_t seeds, const st
 
 /// The options of voronoi; shape-functions adds its own.
 std::set<std::string> solve_options(std::set<std::string> extra = {}) {
-  extra.insert({"--stiffness", "--seeds", "--metric", "--connectivity", "--backend", "--out", "--extrude"});
+  extra.insert({"--stiffness", "--seeds", "--metric", "--connectivity", "--backend", "--out", "--extrude", "--threads"});
   return extra;
 }
 
@@ -430,9 +432,10 @@ void write_seeds(const std::string& path, const std::vector<gv::coord<3>>& seeds
 }
 
 int cmd_demo(const std::vector<std::string>& args) {
-  gvcli::arguments a(args, {"--out", "--backend"}, {});
+  gvcli::arguments a(args, {"--out", "--backend", "--threads"}, {});
   const std::string dir = a.get("--out", "demo-out");
   const std::string backend = pick_backend(a);
+  gvcli::use_threads(a);
   gvcli::progress_bar bar("geovoronoi demo");
   bar.update("phantom");
   // The T-bone steak phantom: meat 2e4, fat 5e3, bone 1.5e10 (the paper's contrast), 1 mm voxels.
