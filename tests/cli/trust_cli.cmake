@@ -180,6 +180,21 @@ if(leftovers)
   fail("bad runs left outputs behind: ${leftovers}")
 endif()
 
+# all-zero costs under mean_cost: seed 1 is at distance 0 from seed 0 and has no cell of its own
+set(zero "P2\n12 10\n255\n")
+foreach(y RANGE 9)
+  string(APPEND zero "0 0 0 0 0 0 0 0 0 0 0 0\n")
+endforeach()
+file(WRITE ${WORK}/zero.pgm "${zero}")
+run(zero_cost_voronoi 2 voronoi --stiffness zero.pgm --extrude 4 --seeds seeds.csv --metric mean_cost --out x7)
+one_line(zero_cost_voronoi "seeds.csv: seed 1 (9,7,2) is at geodesic distance 0 from seed 0")
+run(zero_cost_shape 2 shape-functions --stiffness zero.pgm --extrude 4 --seeds seeds.csv --metric mean_cost --method sibson --out x8)
+one_line(zero_cost_shape "seeds.csv: seed 1 (9,7,2) is at geodesic distance 0 from seed 0")
+file(GLOB leftovers LIST_DIRECTORIES true ${WORK}/x[0-9]*)
+if(leftovers)
+  fail("zero-cost runs left outputs behind: ${leftovers}")
+endif()
+
 # ---- OMP_NUM_THREADS far beyond the machine: clamped, with a note -------------------------------
 set(big "P2\n40 40\n255\n")
 foreach(y RANGE 39)

@@ -90,6 +90,23 @@ inline void use_threads(const arguments& a) {
 #endif
 }
 
+/// Every seed must own its voxel in the diagram @p d: seed i's voxel carries label i. It does not when a
+/// path of zero-weight edges (cost 0 under mean_cost) joins two seeds: both are at distance 0 and the
+/// lower index wins the tie, so the later seed has no cell and every result built on it is garbage.
+/// That is an input problem (exit 2), reported before anything is written.
+inline void require_own_voxels(const geovoronoi::diagram<float, 3>& d, const std::string& seeds_path) {
+  const auto& g = d.geometry();
+  for (std::size_t i = 0; i < d.seeds.size(); ++i) {
+    const long long l = d.label[d.seeds[i]];
+    if (l == static_cast<long long>(i)) continue;
+    const auto c = g.coords(d.seeds[i]);
+    throw usage_error(seeds_path + ": seed " + std::to_string(i) + " (" + std::to_string(c[0]) + "," + std::to_string(c[1]) +
+                      "," + std::to_string(c[2]) + ") is at geodesic distance 0 from seed " + std::to_string(l) +
+                      " (a path of zero-weight edges, e.g. cost 0 under mean_cost, joins them), so it has no cell; "
+                      "give the voxels between them a positive value or use another metric");
+  }
+}
+
 /// One seed as read from the CSV file: up to three numbers and the line it came from.
 struct seed_row {
   double x[3] = {0, 0, 0};

@@ -335,6 +335,7 @@ int solve_and_write(const char* command, const gvcli::arguments& a, Check&& chec
   gvcli::output_dir out(j.out, {j.stiffness_path, j.seeds_path}, std::string("geovoronoi ") + command);
   bar.update("voronoi");
   const auto d = run_voronoi(j.backend, j.spec());
+  gvcli::require_own_voxels(d, j.seeds_path);
   bar.update("writing");
   write_voronoi(out, d, j.field, j.pictures());
   more(j, d, out, bar);

@@ -247,7 +247,9 @@ class output_dir {
     if (::mkdirat(parent_fd_, partial_name_.c_str(), 0777) != 0) {
       const int e = errno;
       ::close(parent_fd_);
-      throw usage_error(dir + ": cannot create a folder in " + parent.string() + ": " + std::strerror(e));
+      const std::string why = dir + ": cannot create a folder in " + parent.string() + ": " + std::strerror(e);
+      if (e == ENOSPC || e == EDQUOT || e == EIO) throw runtime_failure(why);  // not the user's input: exit 1
+      throw usage_error(why);
     }
     temp_ = parent / partial_name_;
     install_handlers();
