@@ -56,6 +56,7 @@ const command shape_functions_command = {
     "  --picture-node N    the node whose weight weight_node<N>.png shows, 0 to nodes - 1 (default: 0)\n"
     "  --stiffness FILE, --seeds FILE, --out DIR (required); --metric M (default: min_stiffness),\n"
     "  --connectivity N (default: 26), --backend B (default: the fastest built one that runs here),\n"
+    "  --threads N (default: OMP_NUM_THREADS),\n"
     "  --world, --extrude N (default: 1), --help\n"
     "\n"
     "writes, in DIR: the files of `geovoronoi voronoi`, and\n"
