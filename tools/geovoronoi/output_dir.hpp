@@ -18,12 +18,14 @@
 // folder of the user's own files).
 //
 // Signals: SIGINT, SIGTERM and SIGHUP remove the partial folder (with async-signal-safe calls only)
-// and then end the process as the signal would; they are blocked during the swap itself. A run killed
+// and then end the process as the signal would; during the swap itself they are blocked in the
+// committing thread and only noted in any other, and acted on once the swap is done. A run killed
 // without a chance to clean up (SIGKILL, power loss) leaves DIR.partial-<pid>; the next run on the
 // same DIR removes partial folders whose process is gone.
 
 #include "usage_error.hpp"
 
+#include <atomic>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -36,6 +38,7 @@
 #include <vector>
 
 #include <fcntl.h>
+#include <sched.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -64,6 +67,14 @@ struct partial_state {
   char name[1024] = {0};    // the partial folder's name inside it
   std::string path;         // its full path, and the final folder's, for messages
   std::string final_path;
+  // During the swap a signal (which another thread may take, as only the committing thread blocks
+  // them) is only noted; the commit acts on it when the swap is done.
+  // (lock-free atomics, safe in a signal handler; Dekker-style: the handler announces itself in
+  // `entering` before it looks at `committing`, the commit sets `committing` before it looks at
+  // `entering`, so the swap never runs while a handler removes the folder.)
+  std::atomic<int> committing{0};
+  std::atomic<int> entering{0};
+  std::atomic<int> pending{0};
   struct sigaction old[3];
 };
 inline partial_state& partial() {
@@ -106,14 +117,53 @@ inline void remove_tree_at(int parent, const char* name, int depth) noexcept {
   ::unlinkat(parent, name, AT_REMOVEDIR);
 }
 
+/// Removes the partial folder; retried, as another thread may still be writing into it.
+inline void remove_partial_now() noexcept {
+  partial_state& s = partial();
+  struct stat st;
+  for (int k = 0; k < 8 && s.parent_fd >= 0 && s.name[0]; ++k) {
+    remove_tree_at(s.parent_fd, s.name, 0);
+    if (::fstatat(s.parent_fd, s.name, &st, AT_SYMLINK_NOFOLLOW) != 0) break;
+  }
+}
+
 inline void on_signal(int sig) noexcept {
   const int saved = errno;
   partial_state& s = partial();
-  if (s.parent_fd >= 0 && s.name[0]) remove_tree_at(s.parent_fd, s.name, 0);
+  s.entering.store(1);
+  if (s.committing.load()) {
+    s.pending.store(sig);
+    s.entering.store(0);
+    errno = saved;
+    return;
+  }
+  remove_partial_now();  // entering stays 1: the process ends below
   errno = saved;
   ::signal(sig, SIG_DFL);
   ::raise(sig);
 }
+
+/// Marks the swap; when it ends (done or failed), a signal noted meanwhile removes what is left
+/// under the partial name (the previous outputs, or this run's discarded ones) and ends the process.
+class committing_guard {
+ public:
+  committing_guard() {
+    partial_state& s = partial();
+    s.committing.store(1);
+    while (s.entering.load()) ::sched_yield();  // a handler removing the folder ends the process
+  }
+  ~committing_guard() {
+    partial_state& s = partial();
+    s.committing.store(0);
+    if (const int sig = s.pending.load()) {
+      remove_partial_now();
+      ::signal(sig, SIG_DFL);
+      ::raise(sig);
+    }
+  }
+  committing_guard(const committing_guard&) = delete;
+  committing_guard& operator=(const committing_guard&) = delete;
+};
 
 /// Whether process @p pid is gone (so its partial folder is abandoned).
 inline bool process_gone(long pid) { return pid > 0 && ::kill(pid_t(pid), 0) != 0 && errno == ESRCH; }
@@ -280,6 +330,7 @@ class output_dir {
       m.close();
       if (!m) throw runtime_failure(shown_ + "/" + output_marker() + ": write error (disk full?)");
     }
+    detail::committing_guard guard;  // destroyed last: acts on a signal once the lock is released
     detail::signals_blocked blocked;
     detail::folder_lock lock(parent_fd_);
     const char* fin = name_.c_str();
