@@ -3,7 +3,13 @@
 // backend_thrust.cpp and cuda.cu are part of the binary.
 #include "backends.hpp"
 
+#include "errors.hpp"  // max_threads
+
 #include <thread>
+
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
 
 namespace gvcli {
 
@@ -72,6 +78,16 @@ const backend& pick_backend(const arguments& a) {
     return b;
   }
   throw usage_error("unknown backend '" + name + "' (" + known + ")");
+}
+
+void use_threads(const arguments& a) {
+  if (!a.has("--threads")) return;
+  const int n = int(a.integer("--threads", 0, 1, max_threads()));
+#if defined(_OPENMP)
+  omp_set_num_threads(n);
+#else
+  (void)n;
+#endif
 }
 
 }  // namespace gvcli

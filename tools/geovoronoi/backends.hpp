@@ -40,4 +40,9 @@ const backend& default_backend();
 /// cannot run here.
 const backend& pick_backend(const arguments& a);
 
+/// `--threads N`: how many OpenMP threads the thrust backend uses, 1 to max_threads() (4 x the
+/// hardware threads, errors.hpp); overrides OMP_NUM_THREADS. No effect on seq (one thread) or cuda.
+/// A usage_error when N is out of range.
+void use_threads(const arguments& a);
+
 }  // namespace gvcli

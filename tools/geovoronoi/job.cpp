@@ -1,6 +1,7 @@
 // See job.hpp.
 #include "job.hpp"
 
+#include "errors.hpp"
 #include "outputs.hpp"
 #include "seed_file.hpp"
 
@@ -52,10 +53,29 @@ std::string locate_seed_error(std::string msg, const std::string& path, const st
   return msg;
 }
 
+/// Every seed must own its voxel in the diagram @p d: seed i's voxel carries label i. It does not when
+/// a path of zero-weight edges (cost 0 under mean_cost) joins two seeds: both are at distance 0 and the
+/// lower index wins the tie, so the later seed has no cell and every result built on it is garbage.
+/// That is an input problem (exit 2), reported before anything is written.
+void require_own_voxels(const gv::diagram<float, 3>& d, const std::string& path, const std::vector<int>& lines) {
+  const auto& g = d.geometry();
+  const auto line_of = [&](std::size_t i) { return i < lines.size() ? std::to_string(lines[i]) : std::string("?"); };
+  for (std::size_t i = 0; i < d.seeds.size(); ++i) {
+    const long long l = d.label[d.seeds[i]];
+    if (l == static_cast<long long>(i)) continue;
+    const auto c = g.coords(d.seeds[i]);
+    throw usage_error(path + ": seed " + std::to_string(i) + " (" + std::to_string(c[0]) + "," + std::to_string(c[1]) +
+                      "," + std::to_string(c[2]) + ") is at geodesic distance 0 from seed " + std::to_string(l) +
+                      " (lines " + line_of(i) + " and " + line_of(std::size_t(l)) +
+                      " of the file; a path of zero-weight edges, e.g. cost 0 under mean_cost, joins them), so it has "
+                      "no cell; give the voxels between them a positive value or use another metric");
+  }
+}
+
 }  // namespace
 
 std::set<std::string> solve_options(std::set<std::string> extra) {
-  extra.insert({"--stiffness", "--seeds", "--metric", "--connectivity", "--backend", "--out", "--extrude"});
+  extra.insert({"--stiffness", "--seeds", "--metric", "--connectivity", "--backend", "--out", "--extrude", "--threads"});
   return extra;
 }
 
@@ -71,11 +91,13 @@ job load_job(const arguments& a) {
   j.connectivity = int(a.integer("--connectivity", 26, 0, 1000));
   with_connectivity(j.connectivity, [](auto) {});
   j.solver = &pick_backend(a);
+  use_threads(a);
   const std::string ext = lower_extension(j.stiffness_path);
   const bool picture = ext == ".pgm" || ext == ".ppm" || ext == ".pnm";
   if (a.has("--extrude") && !picture) throw usage_error("--extrude applies to .pgm/.ppm pictures only");
   gio::read_options ro;
   ro.extrude = index_t(a.integer("--extrude", 1, 1, 100000));
+  require_regular_file(j.stiffness_path, "a stiffness file");
   auto vol = gio::read_volume<float>(j.stiffness_path, ro);
   if (vol.channels != 1)
     throw usage_error(j.stiffness_path + ": has " + std::to_string(vol.channels) + " channels; a stiffness image needs 1");
@@ -112,11 +134,15 @@ job load_job(const arguments& a) {
 }
 
 gv::diagram<float, 3> solve_diagram(const job& j) {
-  try {
-    return j.solver->voronoi(j.spec());
-  } catch (const std::invalid_argument& e) {
-    throw usage_error(locate_seed_error(e.what(), j.seeds_path, j.seed_lines));
-  }
+  auto d = [&] {
+    try {
+      return j.solver->voronoi(j.spec());
+    } catch (const std::invalid_argument& e) {
+      throw usage_error(locate_seed_error(e.what(), j.seeds_path, j.seed_lines));
+    }
+  }();
+  require_own_voxels(d, j.seeds_path, j.seed_lines);
+  return d;
 }
 
 int solve_and_write(const char* command, const arguments& a, const std::function<void(const job&)>& check,
@@ -125,7 +151,7 @@ int solve_and_write(const char* command, const arguments& a, const std::function
   bar.update("reading");
   const job j = load_job(a);
   if (check) check(j);
-  output_dir out(j.out);
+  output_dir out(j.out, {j.stiffness_path, j.seeds_path}, std::string("geovoronoi ") + command);
   bar.update("voronoi");
   const auto d = solve_diagram(j);
   bar.update("writing");

@@ -37,7 +37,8 @@ std::set<std::string> solve_flags();
 job load_job(const arguments& a);
 
 /// The diagram of @p j on its backend; the library's seed errors (outside, masked, duplicate) come
-/// back as a usage_error naming the seed file and line.
+/// back as a usage_error naming the seed file and line, and so does a seed at geodesic distance 0
+/// from another (a zero-cost path joins them), which would have no cell of its own.
 gv::diagram<float, 3> solve_diagram(const job& j);
 
 /// Loads the job, runs `check(job)` (a command's own checks that need the job, before any work; may

@@ -4,16 +4,14 @@
 //   geovoronoi COMMAND [options]      COMMAND: voronoi, shape-functions, demo, backends
 //   geovoronoi help [COMMAND]         geovoronoi COMMAND --help         geovoronoi --version
 //
-// Exit codes: 0 success, 2 bad input (one line on stderr naming the problem), 1 anything else.
+// Exit codes (errors.hpp): 0 success, 2 usage or bad input, 1 runtime failure; one line on stderr.
 
 #include "arguments.hpp"
 #include "command.hpp"
+#include "errors.hpp"
 #include "usage_error.hpp"
 
-#include <geovoronoi/io/common.hpp>
-
 #include <cstdio>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -48,7 +46,8 @@ void overview() {
   for (const command* c : commands) std::printf("  %-16s %s\n", c->name, c->summary);
   std::printf("\n  geovoronoi help COMMAND, geovoronoi COMMAND --help   a command's options, defaults, outputs, example\n"
               "  geovoronoi --version                                 the version\n"
-              "\nexit codes: 0 success, 2 bad input (one line on stderr), 1 other failure\n"
+              "\nexit codes: 0 success, 2 usage or bad input, 1 runtime failure (disk full, I/O error, out of\n"
+              "memory, another run replaced DIR); every failure prints one line on stderr\n"
               "example:\n  geovoronoi demo --out demo-out\n");
 }
 
@@ -78,18 +77,9 @@ int dispatch(std::vector<std::string> args) {
 
 int main(int argc, char** argv) {
   try {
+    gvcli::clamp_thread_count();
     return dispatch(std::vector<std::string>(argv + 1, argv + argc));
-  } catch (const usage_error& e) {
-    std::fprintf(stderr, "geovoronoi: error: %s\n", e.what());
-    return 2;
-  } catch (const geovoronoi::io::io_error& e) {
-    std::fprintf(stderr, "geovoronoi: error: %s\n", e.what());
-    return 2;
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "geovoronoi: error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "geovoronoi: failed: %s\n", e.what());
-    return 1;
+  } catch (...) {
+    return gvcli::report_current_exception();  // one line, exit 1 or 2 (errors.hpp)
   }
 }

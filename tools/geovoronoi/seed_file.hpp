@@ -2,6 +2,7 @@
 // The seed file of the geovoronoi tool: CSV rows of voxel indices (or world coordinates). Only the
 // file's syntax is checked here; whether a seed is inside the grid, unmasked and unique is the
 // library's check (voronoi() throws std::invalid_argument naming the seed, see job.cpp).
+#include "errors.hpp"  // require_regular_file
 #include "usage_error.hpp"
 
 #include <cmath>
@@ -20,8 +21,10 @@ struct seed_row {
 };
 
 /// Reads `i,j,k` (or `x,y,z` in world units) per line; `#` starts a comment; blank lines are skipped.
-/// Two values are accepted for single-slice volumes (k = 0).
+/// Two values are accepted for single-slice volumes (k = 0). A UTF-8 byte-order mark at the start
+/// (Excel's "CSV UTF-8") is skipped. A folder, FIFO, socket or device is refused before it is opened.
 inline std::vector<seed_row> read_seed_rows(const std::string& path, bool integers) {
+  require_regular_file(path, "a seed file");
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw usage_error(path + ": cannot open the seed file");
   std::string text;
@@ -34,9 +37,11 @@ inline std::vector<seed_row> read_seed_rows(const std::string& path, bool intege
       throw usage_error(path + ": seed file larger than 1 GiB");
     }
   }
+  const bool read_error = std::ferror(f) != 0;
   std::fclose(f);
+  if (read_error) throw usage_error(path + ": cannot read the seed file");
   std::vector<seed_row> rows;
-  std::size_t pos = 0;
+  std::size_t pos = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
   int line = 0;
   while (pos < text.size()) {
     auto end = text.find('\n', pos);

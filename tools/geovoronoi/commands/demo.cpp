@@ -69,9 +69,10 @@ void write_seeds(const std::string& path, const std::vector<gv::coord<3>>& seeds
 }
 
 int run(const std::vector<std::string>& args) {
-  const arguments a(args, {"--out", "--backend"}, {});
+  const arguments a(args, {"--out", "--backend", "--threads"}, {});
   const std::string dir = a.get("--out", "demo-out");
   const backend& solver = pick_backend(a);
+  use_threads(a);
   const std::string backend_name = solver.name;
   progress_bar bar("geovoronoi demo");
   bar.update("phantom");
@@ -87,7 +88,7 @@ int run(const std::vector<std::string>& args) {
   const gv::grid<3> gh = full_sibson ? g : gv::grid<3>({64, 48, 16}, {2.0, 2.0, 2.0});
   const auto field_h = gv::phantom::steak(gh);
   const auto seeds_h = full_sibson ? seeds : resample_seeds(g, seeds, field_h);
-  output_dir out(dir);
+  output_dir out(dir, {}, "geovoronoi demo");
   gio::write_metaimage(out.file("stiffness.mhd"), field);
   write_seeds(out.file("seeds.csv"), seeds, "stiffness.mhd");
   std::printf("demo: steak phantom %lldx%lldx%lld (Sibson: %lldx%lldx%lld), %zu nodes, backend %s\n",
@@ -154,15 +155,17 @@ int run(const std::vector<std::string>& args) {
 
 const command demo_command = {
     "demo", "the built-in T-bone steak phantom: cells under two metrics, Distance Ratio and Sibson",
-    "usage: geovoronoi demo [--out DIR] [--backend B]\n"
+    "usage: geovoronoi demo [--out DIR] [--backend B] [--threads N]\n"
     "\n"
     "Builds the T-bone steak phantom (128 x 96 x 32 voxels of 1 mm: meat, fat, bone) with 12 nodes on\n"
     "its middle slice, and computes its Voronoi diagram under min_stiffness and uniform, Distance Ratio\n"
     "weights, and Sibson weights (at half resolution on CPU backends).\n"
     "\n"
     "options:\n"
-    "  --out DIR           output folder (default: demo-out)\n"
+    "  --out DIR           output folder, replaced as a whole when the run succeeded (default: demo-out)\n"
     "  --backend B         seq, thrust or cuda (default: the fastest built one that runs here)\n"
+    "  --threads N         OpenMP threads of the thrust backend, 1 to 4 x the hardware threads\n"
+    "                      (default: OMP_NUM_THREADS, else the runtime's default)\n"
     "  --help              this text\n"
     "\n"
     "writes, in DIR:\n"

@@ -110,6 +110,7 @@ const command shape_functions_command = {
     "                      centre); writes the weights_at files below instead of the per-voxel ones\n"
     "  --stiffness FILE, --seeds FILE, --out DIR (required); --metric M (default: min_stiffness),\n"
     "  --connectivity N (default: 26), --backend B (default: the fastest built one that runs here),\n"
+    "  --threads N (default: OMP_NUM_THREADS),\n"
     "  --world, --extrude N (default: 1), --help\n"
     "\n"
     "writes, in DIR: the files of `geovoronoi voronoi`, and\n"
