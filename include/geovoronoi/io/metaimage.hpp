@@ -443,7 +443,8 @@ volume<T> parse_metaimage(const std::string& path, const std::vector<unsigned ch
     }
     payload = data->data() + start;
     if (h.msb == detail::host_is_little_endian() && es > 1) {
-      raw.assign(payload, payload + bytes);
+      detail::resize_or_throw(raw, std::size_t(bytes), data_path, "the byte-swapped data");
+      std::memcpy(raw.data(), payload, std::size_t(bytes));
       payload = raw.data();
     }
   }
