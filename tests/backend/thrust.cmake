@@ -1,11 +1,14 @@
-# The shared backend suite on the Thrust backend: one executable per Thrust system available.
-if(TARGET geovoronoi::thrust_cpp)
+# The shared backend suite on the Thrust backend: one executable per Thrust system available. The CPP
+# and TBB suites (a reduced matrix) can be left out of a build that has already run them elsewhere
+# (the sanitizer stage of scripts/test.sh).
+option(GEOVORONOI_TEST_EXTRA_THRUST_SYSTEMS "Build the Thrust CPP and TBB backend suites" ON)
+if(TARGET geovoronoi::thrust_cpp AND GEOVORONOI_TEST_EXTRA_THRUST_SYSTEMS)
   geovoronoi_add_test(test_backend_thrust_cpp backend/thrust_cpp.cpp LIBS geovoronoi::thrust_cpp)
 endif()
 if(TARGET geovoronoi::thrust_omp)
   geovoronoi_add_test(test_backend_thrust_omp backend/thrust_omp.cpp LIBS geovoronoi::thrust_omp)
 endif()
-if(TARGET geovoronoi::thrust_tbb)
+if(TARGET geovoronoi::thrust_tbb AND GEOVORONOI_TEST_EXTRA_THRUST_SYSTEMS)
   geovoronoi_add_test(test_backend_thrust_tbb backend/thrust_tbb.cpp LIBS geovoronoi::thrust_tbb)
 endif()
 if(TARGET geovoronoi::thrust_cuda)
