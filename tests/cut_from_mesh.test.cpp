@@ -217,6 +217,29 @@ TEST_CASE("cut_from_mesh: random meshes, the bounding-box path equals the brute 
   }
 }
 
+TEST_CASE("cut_from_mesh: a large oblique triangle visits a slab, not its bounding box") {
+  const gv::grid<3> g({40, 40, 40});
+  gv::triangle_mesh m;
+  m.vertices = {{-0.3, 0.2, 1.1}, {39.6, 3.3, 20.2}, {5.1, 39.4, 38.7}};
+  m.triangles = {{0, 1, 2}};
+  gv::cut_stats st;
+  const auto cuts = gv::cut_from_mesh(g, gv::connectivity<26>{}, m, &st);
+  CHECK(st.voxels_visited <= 8 * 40 * 40);  // the box holds 64000 voxels
+  CHECK(cuts.size() > 1000);
+  CHECK(cuts == brute_force<26>(g, m));
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> q(-3.0, 15.0);
+  const gv::grid<3> h({12, 11, 10});
+  for (int trial = 0; trial < 30; ++trial) {
+    gv::triangle_mesh r;
+    for (int k = 0; k < 6; ++k) r.vertices.push_back({q(rng), q(rng), q(rng)});
+    r.triangles = {{0, 1, 2}, {3, 4, 5}, {0, 4, 2}};
+    CAPTURE(trial);
+    CHECK(gv::cut_from_mesh(h, gv::connectivity<26>{}, r) == brute_force<26>(h, r));
+    CHECK(gv::cut_from_mesh(h, gv::connectivity<6>{}, r) == brute_force<6>(h, r));
+  }
+}
+
 TEST_CASE("cut_from_mesh: a rotated, shifted, anisotropic grid cuts the same edges as its index space") {
   // the mesh is made in index space, on the lattice, then moved to world coordinates through the
   // grid's transform; the rounding of that round trip is far below half a lattice step

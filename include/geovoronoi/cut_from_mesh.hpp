@@ -20,8 +20,11 @@
 /// at isolated points). In 2D a zero-length segment is kept: it cuts the edges through its point.
 ///
 /// **Cost.** For each triangle only the edges leaving voxels in its index-space bounding box,
-/// grown by one voxel, are examined; a per-voxel side-of-plane sign (one exact orient3d per voxel)
-/// rejects edges whose ends are strictly on one side before the full segment/triangle test.
+/// grown by one voxel, can be cut. Within that box the voxels are walked in columns along the axis
+/// where the triangle's normal is largest, and only the at most 8 voxels of each column within 3.5
+/// voxels of the plane are visited, so the work is proportional to the area of the box's
+/// projection, not its volume. Edges whose ends lie strictly on one side of the plane (exact
+/// orient3d) are rejected before the full segment/triangle test.
 
 #include <geovoronoi/config.hpp>
 #include <geovoronoi/connectivity.hpp>
@@ -45,6 +48,7 @@ namespace geovoronoi {
 struct cut_stats {
   std::size_t primitives = 0;   ///< triangles (segments in 2D) that were used
   std::size_t degenerate = 0;   ///< triangles skipped because they collapse to a line on the lattice (3D only)
+  std::size_t voxels_visited = 0; ///< voxels whose forward edges were examined (3D)
   std::size_t edges_tested = 0; ///< exact segment tests performed
 };
 
@@ -158,7 +162,6 @@ cut_set<3> cut_from_mesh(const grid<3>& g, connectivity<N> conn, const triangle_
   constexpr std::int64_t one = std::int64_t(1) << detail::lattice_bits;
   cut_builder<3> out(g, conn);
   cut_stats st;
-  std::vector<signed char> side;  // side of the plane of each voxel centre in the box
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
     for (int k = 0; k < 3; ++k)
@@ -178,37 +181,44 @@ cut_set<3> cut_from_mesh(const grid<3>& g, connectivity<N> conn, const triangle_
     }
     std::array<index_t, 3> lo, hi;
     if (!detail::edge_box<3>(g, mn, mx, lo, hi)) continue;
-    const index_t nx = hi[0] - lo[0] + 1, ny = hi[1] - lo[1] + 1, nz = hi[2] - lo[2] + 1;
-    side.resize(static_cast<std::size_t>(nx * ny * nz));
-    for (index_t z = 0; z < nz; ++z)
-      for (index_t y = 0; y < ny; ++y)
-        for (index_t x = 0; x < nx; ++x)
-          side[static_cast<std::size_t>(x + nx * (y + ny * z))] = static_cast<signed char>(
-              detail::orient3d(a, b, c, {(lo[0] + x) * one, (lo[1] + y) * one, (lo[2] + z) * one}));
-    for (index_t z = 0; z < nz; ++z)
-      for (index_t y = 0; y < ny; ++y)
-        for (index_t x = 0; x < nx; ++x) {
-          const int su = side[static_cast<std::size_t>(x + nx * (y + ny * z))];
-          const detail::lattice3 pu{(lo[0] + x) * one, (lo[1] + y) * one, (lo[2] + z) * one};
+    // walk the box in columns along the axis w where the normal is largest: the plane moves by at
+    // most one voxel along w per voxel step across, so an edge whose ends are not strictly on one
+    // side of it starts within 3 voxels of the plane's crossing of its column
+    const detail::int128_t n[3] = {detail::normal_component(a, b, c, 0), detail::normal_component(a, b, c, 1),
+                                   detail::normal_component(a, b, c, 2)};
+    auto mag = [](detail::int128_t x) { return x < 0 ? -x : x; };
+    const int w = (mag(n[0]) >= mag(n[1]) && mag(n[0]) >= mag(n[2])) ? 0 : (mag(n[1]) >= mag(n[2]) ? 1 : 2);
+    const int i_ax = w == 0 ? 1 : 0, j_ax = w == 2 ? 1 : 2;
+    const double ri = static_cast<double>(n[i_ax]) / static_cast<double>(n[w]);
+    const double rj = static_cast<double>(n[j_ax]) / static_cast<double>(n[w]);
+    for (index_t i = lo[i_ax]; i <= hi[i_ax]; ++i)
+      for (index_t j = lo[j_ax]; j <= hi[j_ax]; ++j) {
+        // where the plane crosses this column, in voxels (rounding here only widens a margin)
+        const double cross = (static_cast<double>(a[w]) - ri * static_cast<double>(i * one - a[i_ax]) -
+                              rj * static_cast<double>(j * one - a[j_ax])) / static_cast<double>(one);
+        const double from = std::max(static_cast<double>(lo[w]), std::floor(cross - 3.5));
+        const double to = std::min(static_cast<double>(hi[w]), std::ceil(cross + 3.5));
+        if (from > to) continue;
+        for (index_t k = static_cast<index_t>(from); k <= static_cast<index_t>(to); ++k) {
+          coord<3> u{};
+          u[i_ax] = i;
+          u[j_ax] = j;
+          u[w] = k;
+          ++st.voxels_visited;
+          const detail::lattice3 pu{u[0] * one, u[1] * one, u[2] * one};
+          const int su = detail::orient3d(a, b, c, pu);
           cut_mask_t mask = 0;
           for (int f = 0; f < fw.count; ++f) {
-            const index_t vx = x + fw.off[f][0], vy = y + fw.off[f][1], vz = z + fw.off[f][2];
-            const index_t gx = lo[0] + vx, gy = lo[1] + vy, gz = lo[2] + vz;
-            if (gx < 0 || gy < 0 || gz < 0 || gx >= g.extent(0) || gy >= g.extent(1) || gz >= g.extent(2)) continue;
-            // a neighbour outside the box lies beyond the triangle's reach unless the edge meets it,
-            // so its side is computed on demand
-            int sv;
-            const detail::lattice3 pv{gx * one, gy * one, gz * one};
-            if (vx < nx && vy < ny && vz < nz && vx >= 0 && vy >= 0 && vz >= 0)
-              sv = side[static_cast<std::size_t>(vx + nx * (vy + ny * vz))];
-            else
-              sv = detail::orient3d(a, b, c, pv);
-            if (su * sv > 0) continue;
+            const coord<3> v{u[0] + fw.off[f][0], u[1] + fw.off[f][1], u[2] + fw.off[f][2]};
+            if (!g.contains(v)) continue;
+            const detail::lattice3 pv{v[0] * one, v[1] * one, v[2] * one};
+            if (su * detail::orient3d(a, b, c, pv) > 0) continue;
             ++st.edges_tested;
             if (detail::segment_meets_triangle(pu, pv, a, b, c)) mask |= cut_mask_t(1) << f;
           }
-          if (mask) out.insert_unchecked(g.index({lo[0] + x, lo[1] + y, lo[2] + z}), mask);
+          if (mask) out.insert_unchecked(g.index(u), mask);
         }
+      }
   }
   if (stats) *stats = st;
   return out.build();

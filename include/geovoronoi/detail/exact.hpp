@@ -73,6 +73,12 @@ inline bool degenerate(const lattice3& a, const lattice3& b, const lattice3& c) 
   return cy * bz - cz * by == 0 && cz * bx - cx * bz == 0 && cx * by - cy * bx == 0;
 }
 
+/// Component @p k of the (unnormalised) normal (b - a) x (c - a).
+inline int128_t normal_component(const lattice3& a, const lattice3& b, const lattice3& c, int k) noexcept {
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  return int128_t(b[i] - a[i]) * (c[j] - a[j]) - int128_t(b[j] - a[j]) * (c[i] - a[i]);
+}
+
 /**
  * @brief The closed segment [p, q] meets the closed triangle (a, b, c): touching a vertex or an
  *        edge counts, and so does any overlap when the segment lies in the triangle's plane.
