@@ -1,6 +1,8 @@
 // cut_from_mesh.hpp: exact predicates on touching cases, the bounding-box path against a brute force
 // over every edge, planes, sweeps, rotated grids, 2D polylines.
 #include <geovoronoi/cut_from_mesh.hpp>
+#include <geovoronoi/io/obj.hpp>
+#include <geovoronoi/io/stl.hpp>
 
 #include <doctest/doctest.h>
 
@@ -193,6 +195,23 @@ TEST_CASE("cut_from_mesh: the plane x = 2.5 on a 6 x 6 x 6 grid") {
     // x-edges 1-2 and 2-3 (touching at an end), and every y- and z-edge inside the plane
     CHECK(cuts.size() == 36 + 36 + 2 * 30);
     CHECK(cuts == brute_force<6>(g, m2));
+    // one ulp off the centres snaps onto them (the documented single rounding); one lattice step
+    // off is off: only the x-edges between 2 and 3 remain
+    CHECK(gv::cut_from_mesh(g, gv::connectivity<6>{}, plane_x(std::nextafter(2.0, 3.0), -1.0, 6.0)) == cuts);
+    CHECK(gv::cut_from_mesh(g, gv::connectivity<6>{}, plane_x(2.0 + 1.0 / double(L), -1.0, 6.0)).size() == 36);
+    CHECK(gv::cut_from_mesh(g, gv::connectivity<6>{}, plane_x(2.0 - 1.0 / double(L), -1.0, 6.0)).size() == 36);
+  }
+  SUBCASE("a triangle edge lying on a row of voxel centres cuts the edges along it") {
+    gv::triangle_mesh t;  // in the plane z = 2, its edge y = 2 from x = 0.5 to 4.5
+    t.vertices = {{0.5, 2.0, 2.0}, {4.5, 2.0, 2.0}, {2.5, 4.5, 2.0}};
+    t.triangles = {{0, 1, 2}};
+    const auto c = gv::cut_from_mesh(g, gv::connectivity<6>{}, t);
+    CHECK(c.cut(g.index({1, 2, 2}), 3));   // x-edge (1,2,2)-(2,2,2), on the triangle's edge
+    CHECK(c.cut(g.index({2, 2, 2}), 5));   // z-edge from a centre on the triangle's edge
+    CHECK(c.cut(g.index({2, 2, 1}), 5));   // z-edge ending there
+    CHECK(c.cut(g.index({0, 2, 2}), 3));   // x-edge overlapping the triangle's edge on [0.5, 1]
+    CHECK_FALSE(c.cut(g.index({0, 2, 1}), 5));  // z-edge at x = 0, beside the triangle
+    CHECK(c == brute_force<6>(g, t));
   }
 }
 
@@ -375,4 +394,15 @@ TEST_CASE("cut_from_polylines: 2D cuts, exact, against the brute force") {
     CHECK(gv::cut_from_polylines(g, gv::connectivity<8>{}, lines) == brute_force_2d<8>(g, lines));
   }
   CHECK_THROWS_AS(gv::cut_from_polyline(g, gv::connectivity<4>{}, {{0.0, std::nan("")}}), std::invalid_argument);
+}
+
+TEST_CASE("cut_from_mesh: from an OBJ and an STL file's bytes") {
+  const gv::grid<3> g({6, 6, 6});
+  const std::string obj = "v 2.5 -1 -1\nv 2.5 6 -1\nv 2.5 6 6\nv 2.5 -1 6\nf 1 2 3 4\n";
+  const auto m = gv::io::parse_obj("plane.obj", std::vector<unsigned char>(obj.begin(), obj.end()));
+  CHECK(gv::cut_from_mesh(g, gv::connectivity<26>{}, m) == gv::cut_from_mesh(g, gv::connectivity<26>{}, plane_x(2.5, -1, 6)));
+  const std::string stl = "solid p\nfacet normal 1 0 0\nouter loop\nvertex 2.5 -1 -1\nvertex 2.5 6 -1\nvertex 2.5 6 6\n"
+                          "vertex 2.5 -1 6\nendloop\nendfacet\nendsolid p\n";
+  const auto s = gv::io::parse_stl("plane.stl", std::vector<unsigned char>(stl.begin(), stl.end()));
+  CHECK(gv::cut_from_mesh(g, gv::connectivity<6>{}, s).size() == 36);
 }
