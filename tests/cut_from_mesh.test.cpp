@@ -394,6 +394,22 @@ TEST_CASE("cut_from_polylines: 2D cuts, exact, against the brute force") {
     CHECK(gv::cut_from_polylines(g, gv::connectivity<8>{}, lines) == brute_force_2d<8>(g, lines));
   }
   CHECK_THROWS_AS(gv::cut_from_polyline(g, gv::connectivity<4>{}, {{0.0, std::nan("")}}), std::invalid_argument);
+
+  // a long diagonal visits a band along it, not its bounding box
+  const gv::grid<2> big({300, 300});
+  const std::vector<gv::point<2>> diag{{0.3, 1.1}, {297.6, 280.2}};
+  gv::cut_stats st;
+  const auto cd = gv::cut_from_polyline(big, gv::connectivity<8>{}, diag, &st);
+  CHECK(st.voxels_visited <= 7 * 300);  // the box holds 90000
+  CHECK(cd == brute_force_2d<8>(big, {diag}));
+  std::uniform_real_distribution<double> r(-3.0, 20.0);
+  const gv::grid<2> h({17, 15});
+  for (int trial = 0; trial < 100; ++trial) {
+    const std::vector<std::vector<gv::point<2>>> l{{{r(rng), r(rng)}, {r(rng), r(rng)}, {r(rng), r(rng)}}};
+    CAPTURE(trial);
+    CHECK(gv::cut_from_polylines(h, gv::connectivity<8>{}, l) == brute_force_2d<8>(h, l));
+    CHECK(gv::cut_from_polylines(h, gv::connectivity<4>{}, l) == brute_force_2d<4>(h, l));
+  }
 }
 
 TEST_CASE("cut_from_mesh: from an OBJ and an STL file's bytes") {

@@ -48,7 +48,7 @@ namespace geovoronoi {
 struct cut_stats {
   std::size_t primitives = 0;   ///< triangles (segments in 2D) that were used
   std::size_t degenerate = 0;   ///< triangles skipped because they collapse to a line on the lattice (3D only)
-  std::size_t voxels_visited = 0; ///< voxels whose forward edges were examined (3D)
+  std::size_t voxels_visited = 0; ///< voxels whose forward edges were examined
   std::size_t edges_tested = 0; ///< exact segment tests performed
 };
 
@@ -286,18 +286,34 @@ cut_set<2> cut_from_polylines(const grid<2>& g, connectivity<N> conn, const std:
       std::array<std::int64_t, 2> mx{std::max(a[0], b[0]), std::max(a[1], b[1])};
       std::array<index_t, 2> lo, hi;
       if (!detail::edge_box<2>(g, mn, mx, lo, hi)) continue;
-      for (index_t y = lo[1]; y <= hi[1]; ++y)
-        for (index_t x = lo[0]; x <= hi[0]; ++x) {
-          const detail::lattice2 pu{x * one, y * one};
+      // as in 3D: columns along the axis w where the segment's normal is largest, visiting only the
+      // voxels within 2.5 of the line's crossing (a zero-length segment keeps its whole, tiny box)
+      const std::int64_t nx = a[1] - b[1], ny = b[0] - a[0];
+      const int w = std::abs(nx) >= std::abs(ny) ? 0 : 1, i_ax = 1 - w;
+      const double ri = (nx == 0 && ny == 0) ? 0.0 : static_cast<double>(w == 0 ? ny : nx) / static_cast<double>(w == 0 ? nx : ny);
+      for (index_t i = lo[i_ax]; i <= hi[i_ax]; ++i) {
+        double from = static_cast<double>(lo[w]), to = static_cast<double>(hi[w]);
+        if (nx != 0 || ny != 0) {
+          const double cross = (static_cast<double>(a[w]) - ri * static_cast<double>(i * one - a[i_ax])) / static_cast<double>(one);
+          from = std::max(from, std::floor(cross - 2.5));
+          to = std::min(to, std::ceil(cross + 2.5));
+        }
+        for (index_t k = static_cast<index_t>(from); from <= to && k <= static_cast<index_t>(to); ++k) {
+          coord<2> u{};
+          u[i_ax] = i;
+          u[w] = k;
+          ++st.voxels_visited;
+          const detail::lattice2 pu{u[0] * one, u[1] * one};
           cut_mask_t mask = 0;
           for (int f = 0; f < fw.count; ++f) {
-            const index_t vx = x + fw.off[f][0], vy = y + fw.off[f][1];
+            const index_t vx = u[0] + fw.off[f][0], vy = u[1] + fw.off[f][1];
             if (vx < 0 || vy < 0 || vx >= g.extent(0) || vy >= g.extent(1)) continue;
             ++st.edges_tested;
             if (detail::segments_meet(pu, {vx * one, vy * one}, a, b)) mask |= cut_mask_t(1) << f;
           }
-          if (mask) out.insert_unchecked(g.index({x, y}), mask);
+          if (mask) out.insert_unchecked(g.index(u), mask);
         }
+      }
     }
   }
   if (stats) *stats = st;
