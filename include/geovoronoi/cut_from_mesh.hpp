@@ -21,7 +21,7 @@
 ///
 /// **Cost.** For each triangle only the edges leaving voxels in its index-space bounding box,
 /// grown by one voxel, can be cut. Within that box the voxels are walked in columns along the axis
-/// where the triangle's normal is largest, and only the at most 8 voxels of each column within 3.5
+/// where the triangle's normal is largest, and only the (at most 9) voxels of each column within 3.5
 /// voxels of the plane are visited, so the work is proportional to the area of the box's
 /// projection, not its volume. Edges whose ends lie strictly on one side of the plane (exact
 /// orient3d) are rejected before the full segment/triangle test.
