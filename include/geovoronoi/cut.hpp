@@ -200,10 +200,11 @@ class cut_set {
       throw std::invalid_argument("geovoronoi::cut_set::merge: the two cut sets belong to different grids or connectivities");
     std::vector<entry> out;
     out.reserve(entries_.size() + other.entries_.size());
-    auto a = entries_.begin(), b = other.entries_.begin();
-    while (a != entries_.end() || b != other.entries_.end()) {
-      if (b == other.entries_.end() || (a != entries_.end() && a->voxel < b->voxel)) out.push_back(*a++);
-      else if (a == entries_.end() || b->voxel < a->voxel) out.push_back(*b++);
+    const_iterator a = entries_.cbegin(), b = other.entries_.cbegin();
+    const const_iterator ae = entries_.cend(), be = other.entries_.cend();
+    while (a != ae || b != be) {
+      if (b == be || (a != ae && a->voxel < b->voxel)) out.push_back(*a++);
+      else if (a == ae || b->voxel < a->voxel) out.push_back(*b++);
       else out.push_back(entry{a->voxel, (a++)->forward | (b++)->forward});
     }
     out.shrink_to_fit();
