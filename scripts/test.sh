@@ -61,7 +61,7 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
   ctest --test-dir build-sanitize --output-on-failure -j"$jobs" -LE "consumer|fuzz"
 stage_done "sanitizer ctest"
 
-# ---- fuzzing: libFuzzer on the MetaImage, NumPy and PGM/PPM parsers ----
+# ---- fuzzing: libFuzzer on the MetaImage, NumPy, PGM/PPM and STL/OBJ parsers ----
 # Built apart with clang in build-fuzz/ (only the fuzz targets), each run for a bounded time on a
 # copy of the seed corpus in tests/fuzz/corpus/. A crash, sanitizer report, leak or timeout fails.
 if command -v clang++ >/dev/null 2>&1; then
@@ -70,9 +70,9 @@ if command -v clang++ >/dev/null 2>&1; then
   cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DGEOVORONOI_FUZZ=ON \
         -DGEOVORONOI_BUILD_BENCH=OFF -DGEOVORONOI_BUILD_TOOLS=OFF -DGEOVORONOI_BUILD_EXAMPLES=OFF \
         -DGEOVORONOI_THRUST=OFF -DGEOVORONOI_CUDA=OFF >/dev/null
-  cmake --build build-fuzz --target fuzz_metaimage fuzz_npy fuzz_pnm -j"$jobs"
+  cmake --build build-fuzz --target fuzz_metaimage fuzz_npy fuzz_pnm fuzz_mesh -j"$jobs"
   stage_done "fuzz build"
-  for f in metaimage npy pnm; do
+  for f in metaimage npy pnm mesh; do
     rm -rf "build-fuzz/corpus-$f" && mkdir -p "build-fuzz/corpus-$f"
     cp tests/fuzz/corpus/"$f"/* "build-fuzz/corpus-$f"/
     if ! (cd build-fuzz && ./tests/fuzz_"$f" -max_total_time="$fuzz_seconds" -timeout=10 -rss_limit_mb=2048 \

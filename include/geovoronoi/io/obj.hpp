@@ -1,0 +1,112 @@
+#pragma once
+/// @file io/obj.hpp
+/// @brief Wavefront OBJ reader (geometry only) into a triangle_mesh.
+///
+/// Reads `v x y z [w]` (w ignored) and `f` records; every other record (vt, vn, g, o, s, l, p,
+/// usemtl, mtllib, ...) and `#` comments are skipped. A face vertex may be written `v`, `v/vt`,
+/// `v/vt/vn` or `v//vn`; only v is used. Positive indices count from 1; negative ones count back
+/// from the last vertex defined so far (-1 is the latest), and an index must refer to a vertex
+/// already defined. Faces with more than three vertices are fanned from their first vertex.
+/// Coordinates must be finite. Zero-area triangles are dropped and counted in
+/// triangle_mesh::degenerate. A file without any face is an error.
+
+#include <geovoronoi/io/common.hpp>
+#include <geovoronoi/io/stl.hpp>
+#include <geovoronoi/mesh.hpp>
+
+#include <cerrno>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace geovoronoi::io {
+
+namespace detail {
+
+/// Splits one line into whitespace-separated tokens.
+inline std::vector<std::string> split_words(const unsigned char* p, std::size_t n) {
+  std::vector<std::string> out;
+  std::size_t i = 0;
+  while (i < n) {
+    while (i < n && (p[i] == ' ' || p[i] == '\t' || p[i] == '\r' || p[i] == '\f' || p[i] == '\v')) ++i;
+    std::size_t b = i;
+    while (i < n && !(p[i] == ' ' || p[i] == '\t' || p[i] == '\r' || p[i] == '\f' || p[i] == '\v')) ++i;
+    if (i > b) out.emplace_back(reinterpret_cast<const char*>(p + b), i - b);
+  }
+  return out;
+}
+
+/// The vertex index of face corner @p t ("7", "7/2", "7/2/3", "7//3", "-1"), resolved against the
+/// @p count vertices defined so far (0-based). Throws through @p fail.
+template <class Fail>
+std::uint32_t obj_corner(const std::string& t, std::size_t count, Fail&& fail) {
+  const std::string v = t.substr(0, t.find('/'));
+  if (v.empty()) fail("face corner \"" + t + "\" has no vertex index");
+  char* end = nullptr;
+  errno = 0;
+  const long long i = std::strtoll(v.c_str(), &end, 10);
+  if (end != v.c_str() + v.size() || errno == ERANGE) fail("face corner \"" + t + "\" is not an integer index");
+  if (i == 0) fail("face corner \"" + t + "\": index 0 is invalid (OBJ counts vertices from 1)");
+  const long long n = static_cast<long long>(count);
+  const long long r = i > 0 ? i - 1 : n + i;
+  if (r < 0 || r >= n)
+    fail("face corner \"" + t + "\" refers to vertex " + std::to_string(i) + ", but " + std::to_string(count) +
+         " vertices are defined so far");
+  return static_cast<std::uint32_t>(r);
+}
+
+}  // namespace detail
+
+/**
+ * @brief Parses OBJ bytes (see this file's notes).
+ * @param path the name used in error messages.
+ * @throws io_error naming @p path and the line: an empty file, a non-finite or missing coordinate,
+ *         an index that is 0, malformed or out of range, a face with fewer than three corners, no
+ *         face at all.
+ */
+inline triangle_mesh parse_obj(const std::string& path, const std::vector<unsigned char>& bytes) {
+  if (bytes.empty()) throw io_error(path, "is empty (0 bytes); an OBJ file needs vertices and faces");
+  triangle_mesh m;
+  std::size_t line = 0, faces = 0, i = 0;
+  while (i < bytes.size()) {
+    ++line;
+    std::size_t e = i;
+    while (e < bytes.size() && bytes[e] != '\n') ++e;
+    const std::size_t b = i;
+    i = e + 1;
+    std::size_t len = e - b;
+    for (std::size_t k = 0; k < len; ++k)
+      if (bytes[b + k] == '#') len = k;  // a comment runs to the end of the line
+    if (len == 0) continue;
+    const auto w = detail::split_words(bytes.data() + b, len);
+    if (w.empty()) continue;
+    auto fail = [&](const std::string& what) { throw io_error(path, "OBJ " + detail::at_line(line) + what); };
+    if (w[0] == "v") {
+      if (w.size() < 4) fail("a vertex needs three coordinates (\"v x y z\")");
+      std::array<double, 3> p;
+      for (std::size_t a = 0; a < 3; ++a)
+        if (!detail::parse_finite(w[a + 1], p[a])) fail("vertex coordinate \"" + w[a + 1] + "\" is not a finite number");
+      if (m.vertices.size() >= 0xFFFFFFFFu) fail("too many vertices (more than 2^32 - 1)");
+      m.vertices.push_back(p);
+    } else if (w[0] == "f") {
+      if (w.size() < 4) fail("a face needs at least three corners, this one has " + std::to_string(w.size() - 1));
+      const std::size_t n = m.vertices.size();
+      const std::uint32_t first = detail::obj_corner(w[1], n, fail);
+      std::uint32_t prev = detail::obj_corner(w[2], n, fail);
+      for (std::size_t k = 3; k < w.size(); ++k) {
+        const std::uint32_t cur = detail::obj_corner(w[k], n, fail);
+        detail::add_triangle(m, first, prev, cur);
+        prev = cur;
+      }
+      ++faces;
+    }
+  }
+  if (faces == 0) throw io_error(path, "OBJ holds no faces (\"f\" records)");
+  return m;
+}
+
+/// Reads an OBJ file (see parse_obj()).
+inline triangle_mesh read_obj(const std::string& path) { return parse_obj(path, detail::read_file(path)); }
+
+}  // namespace geovoronoi::io
