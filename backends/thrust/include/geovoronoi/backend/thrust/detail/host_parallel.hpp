@@ -82,7 +82,7 @@ decltype(auto) with_host_threads(const Exec&, unsigned threads, F&& f) {
   if constexpr (is_tbb_policy_v<Exec>) {
 #ifdef GEOVORONOI_THRUST_HAS_TBB_ARENA
     if (threads != 0) {
-      ::tbb::task_arena arena(int(threads));
+      ::tbb::task_arena arena{static_cast<int>(threads)};
       return arena.execute(std::forward<F>(f));
     }
 #endif
