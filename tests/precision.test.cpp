@@ -79,4 +79,36 @@ TEST_CASE("overflow_error is a geovoronoi::error") {
   CHECK(std::string(base.what()) == "x");
 }
 
+TEST_CASE("overflow_error: double overflows too, and names double") {
+  const gv::grid<2> g({40, 2});
+  const std::vector<double> f(g.size(), 1e-307);  // every edge weighs 1e307: the 18th voxel is beyond 1.8e308
+  const auto p = gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<4>{});
+  std::string msg;
+  try {
+    (void)gv::voronoi(gv::seq, p, std::vector<gv::coord<2>>{{0, 0}});
+  } catch (const gv::overflow_error& e) {
+    msg = e.what();
+  }
+  CHECK(msg.find("overflows double") != std::string::npos);
+  CHECK(msg.find("rescale") != std::string::npos);
+}
+
+TEST_CASE("seq: a cancelled bounded solve leaves the workspace ready for the next call") {
+  const gv::grid<3> g({30, 30, 30});
+  const std::vector<float> f(g.size(), 1.0f);
+  const auto p = gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<26>{});
+  const std::vector<gv::source<float>> src{{g.index({15, 15, 15}), 0.0f, 0}};
+  gv::seq_workspace ws;
+  int calls = 0;
+  gv::solve_options stop;
+  stop.progress = [&](double) { return ++calls < 2; };  // stop at the first tick inside the search
+  CHECK_THROWS_AS(gv::bounded_solve(gv::seq(ws), p, src, 12.0f, stop), gv::cancelled);
+  CHECK(calls == 2);
+  const auto again = gv::bounded_solve(gv::seq(ws), p, src, 12.0f);
+  const auto fresh = gv::bounded_solve(gv::seq, p, src, 12.0f);
+  CHECK(again.voxel == fresh.voxel);
+  CHECK(again.distance == fresh.distance);
+  CHECK(again.label == fresh.label);
+}
+
 }  // namespace
