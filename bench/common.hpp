@@ -120,12 +120,16 @@ struct case_hooks {
 inline benchmark::IterationCount default_iterations(int n) { return n <= 64 ? 5 : n <= 128 ? 2 : 1; }
 
 /// Smoke mode (environment GEOVORONOI_BENCH_SMOKE set, as the ctest entries `smoke_bench_*` do): each
-/// case runs once, on the smallest size only, so a test run checks that every benchmark still works
-/// without spending minutes timing it.
+/// case runs once, on the smallest size only and never above smoke_size_cap voxels per side (a call
+/// registering only 221 or 256 runs at 32: same code paths, a fraction of a second), so a test run
+/// checks that every benchmark still works without spending minutes timing it.
 inline bool smoke_run() {
   static const bool smoke = std::getenv("GEOVORONOI_BENCH_SMOKE") != nullptr;
   return smoke;
 }
+
+/// Largest grid side a smoke run uses (see smoke_run()).
+inline constexpr int smoke_size_cap = 32;
 
 /// For Apply(): a minimum of one second of timing, or one iteration in smoke mode.
 inline void min_time_1s(benchmark::internal::Benchmark* b) {
@@ -200,7 +204,9 @@ std::vector<benchmark::internal::Benchmark*> register_solver_cases(const std::st
                                                                    benchmark::IterationCount iterations = 0) {
   std::vector<benchmark::internal::Benchmark*> out;
   const std::vector<int> run_sizes =
-      smoke_run() && !sizes.empty() ? std::vector<int>{*std::min_element(sizes.begin(), sizes.end())} : sizes;
+      smoke_run() && !sizes.empty()
+          ? std::vector<int>{std::min(smoke_size_cap, *std::min_element(sizes.begin(), sizes.end()))}
+          : sizes;
   for (const auto& f : fields)
     for (int n : run_sizes)
       for (int s : seeds)

@@ -58,3 +58,16 @@ TEST_CASE("README: usage example") {
   }
   for (std::size_t i = 0; i < nodes.size(); ++i) CHECK(diagram.label(nodes[i]) == int(i));
 }
+
+TEST_CASE("docs/api.md: grid and orientation") {
+  namespace gv = geovoronoi;
+  const gv::index_t nx = 4, ny = 5, nz = 6;
+  const double sx = 0.5, sy = 2.0, sz = 3.0, ox = 10.0, oy = 20.0, oz = 30.0;
+  gv::grid<3> r({nx, ny, nz}, {sx, sy, sz}, {ox, oy, oz}, {0, -1, 0,  1, 0, 0,  0, 0, 1});
+  // index x runs along world +y, index y along world -x
+  CHECK(r.world({1, 0, 0}) == gv::point<3>{ox, oy + sx, oz});
+  CHECK(r.world({0, 1, 0}) == gv::point<3>{ox - sy, oy, oz});
+  CHECK(r.nearest_voxel({ox - sy, oy + sx, oz + sz}) == gv::coord<3>{1, 1, 1});
+  CHECK_THROWS_AS(gv::grid<3>({nx, ny, nz}, {sx, sy, sz}, {ox, oy, oz}, {1, 0, 0, 1, 0, 0, 0, 0, 1}),
+                  std::invalid_argument);
+}

@@ -8,6 +8,7 @@
 
 #include "core_helpers.hpp"
 
+#include <cmath>
 #include <random>
 #include <type_traits>
 
@@ -193,3 +194,54 @@ TEST_CASE("grid: to_string formats coordinates") {
 }
 
 }  // namespace
+
+// ---- direction (orientation) -------------------------------------------------------------------
+
+TEST_CASE("grid: the direction defaults to the identity and takes part in equality") {
+  const gv::grid<3> g({4, 5, 6}, {1.0, 2.0, 3.0});
+  CHECK(g.direction() == gv::direction_matrix<3>{1, 0, 0, 0, 1, 0, 0, 0, 1});
+  CHECK(gv::grid<2>().direction() == gv::direction_matrix<2>{1, 0, 0, 1});
+  const gv::grid<3> r({4, 5, 6}, {1.0, 2.0, 3.0}, {}, {0, -1, 0, 1, 0, 0, 0, 0, 1});
+  CHECK(r.direction(0, 1) == -1.0);
+  CHECK(r.direction(1, 0) == 1.0);
+  CHECK(g != r);
+  CHECK(r == gv::grid<3>({4, 5, 6}, {1.0, 2.0, 3.0}, {}, {0, -1, 0, 1, 0, 0, 0, 0, 1}));
+}
+
+TEST_CASE("grid: world <-> voxel with a 90 degree rotation about z") {
+  // index axis x points along world +y, index axis y along world -x (column c = axis c's direction)
+  const gv::grid<3> g({4, 5, 6}, {0.5, 2.0, 3.0}, {10.0, 20.0, 30.0}, {0, -1, 0, 1, 0, 0, 0, 0, 1});
+  CHECK(g.world({0, 0, 0}) == gv::point<3>{10.0, 20.0, 30.0});
+  CHECK(g.world({2, 0, 0}) == gv::point<3>{10.0, 21.0, 30.0});   // 2 * 0.5 along +y
+  CHECK(g.world({0, 3, 0}) == gv::point<3>{4.0, 20.0, 30.0});    // 3 * 2.0 along -x
+  CHECK(g.world({1, 1, 1}) == gv::point<3>{8.0, 20.5, 33.0});
+  CHECK(g.nearest_voxel({10.0, 21.0, 30.0}) == gv::coord<3>{2, 0, 0});
+  CHECK(g.nearest_voxel({4.0, 20.0, 30.0}) == gv::coord<3>{0, 3, 0});
+  CHECK(g.nearest_voxel({8.1, 20.6, 33.4}) == gv::coord<3>{1, 1, 1});
+  // the identity's answer would be a different (outside) voxel
+  CHECK_FALSE(g.contains(gv::grid<3>({4, 5, 6}, {0.5, 2.0, 3.0}, {10.0, 20.0, 30.0}).nearest_voxel({4.0, 20.0, 30.0})));
+  for (gv::index_t v = 0; v < g.size(); ++v) CHECK(g.nearest_voxel(g.world(g.coords(v))) == g.coords(v));
+
+  const gv::grid<2> h({3, 7}, {1.0, 1.0}, {0.0, 0.0}, {0, 1, -1, 0});  // x -> -y, y -> +x
+  CHECK(h.world({2, 5}) == gv::point<2>{5.0, -2.0});
+  CHECK(h.nearest_voxel({5.2, -1.7}) == gv::coord<2>{2, 5});
+}
+
+TEST_CASE("grid: an oblique rotation round-trips every voxel centre") {
+  const double c = std::cos(0.3), s = std::sin(0.3);
+  const gv::grid<3> g({5, 4, 3}, {0.7, 1.3, 2.1}, {-3.0, 1.5, 0.25}, {c, -s, 0, s, c, 0, 0, 0, 1});
+  for (gv::index_t v = 0; v < g.size(); ++v) CHECK(g.nearest_voxel(g.world(g.coords(v))) == g.coords(v));
+}
+
+TEST_CASE("grid: singular, non-orthonormal or non-finite directions are rejected, naming the matrix") {
+  GV_CHECK_INVALID(gv::grid<3>({2, 2, 2}, {1, 1, 1}, {}, {1, 0, 0, 0, 1, 0, 0, 0, 0}), "direction matrix", "singular",
+                   "[1 0 0; 0 1 0; 0 0 0]");
+  GV_CHECK_INVALID(gv::grid<3>({2, 2, 2}, {1, 1, 1}, {}, {1, 0, 0, 1, 0, 0, 0, 0, 1}), "direction matrix", "singular");
+  GV_CHECK_INVALID(gv::grid<2>({2, 2}, {1, 1}, {}, {2, 0, 0, 2}), "direction matrix", "not orthonormal", "[2 0; 0 2]");
+  GV_CHECK_INVALID(gv::grid<2>({2, 2}, {1, 1}, {}, {1, 0.1, 0, 1}), "not orthonormal");
+  GV_CHECK_INVALID(gv::grid<2>({2, 2}, {1, 1}, {}, {1, 0, 0, 1 + 1e-5}), "not orthonormal");
+  GV_CHECK_INVALID(gv::grid<2>({2, 2}, {1, 1}, {}, {nan_v<double>, 0, 0, 1}), "direction matrix", "not finite");
+  CHECK_NOTHROW(gv::grid<2>({2, 2}, {1, 1}, {}, {1, 0, 0, 1 + 1e-7}));  // within the tolerance
+  CHECK_NOTHROW(gv::grid<2>({2, 2}, {1, 1}, {}, {1, 0, 0, -1}));        // a reflection is fine
+  CHECK_NOTHROW(gv::grid<3>({2, 2, 2}, {1, 1, 1}, {}, {0, 0, 1, 1, 0, 0, 0, 1, 0}));
+}

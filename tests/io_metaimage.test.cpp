@@ -4,8 +4,37 @@
 
 #include <geovoronoi/io/metaimage.hpp>
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <limits>
+#include <new>
+
+// GCC flags the free() below as mismatched with operator new, which these replacements define
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+
+// This test binary counts the largest single allocation and can make big ones fail, to check that
+// readers bound their allocations by what a file really holds and name sizes when memory runs out.
+namespace alloc_probe {
+std::atomic<std::size_t> largest{0};
+std::atomic<std::size_t> fail_from{0};  // 0: never fail
+}  // namespace alloc_probe
+
+void* operator new(std::size_t n) {
+  std::size_t seen = alloc_probe::largest.load();
+  while (n > seen && !alloc_probe::largest.compare_exchange_weak(seen, n)) {
+  }
+  const std::size_t limit = alloc_probe::fail_from.load();
+  if (limit != 0 && n >= limit) throw std::bad_alloc();
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace gio = geovoronoi::io;
 using geovoronoi::index_t;
@@ -80,7 +109,7 @@ TEST_CASE("metaimage: round trip of every element type, .mhd and .mha, both byte
 
 TEST_CASE("metaimage: conversion on write, e.g. float data stored as MET_USHORT") {
   auto v = sample_volume<float>();
-  for (auto& x : v.data) x = std::abs(std::round(x));
+  for (auto& x : v.data) x = std::fmod(std::abs(std::round(x)), 65536.0f);  // values uint16 can hold
   gio::metaimage_write_options opt;
   opt.type = gio::element_type::uint16;
   gio::write_metaimage(scratch("conv.mha"), v, opt);
@@ -273,4 +302,200 @@ TEST_CASE("metaimage: a data file that is a directory is an error, not a huge al
                            "not a regular file");
   io_test::expect_io_error([] { gio::read_metaimage<float>(scratch("no-such-file.mha")); }, "no-such-file.mha",
                            "does not exist");
+}
+
+// ---- orientation ---------------------------------------------------------------------------------
+
+TEST_CASE("metaimage: TransformMatrix lists the direction of each index axis (ITK), read into a row-major D") {
+  // index axis x points along world +y, index axis y along world -x
+  const std::uint8_t bytes[6] = {0, 1, 2, 3, 4, 5};
+  io_test::write_bytes(scratch("rot.mha"),
+                       "ObjectType = Image\nNDims = 3\nTransformMatrix = 0 1 0 -1 0 0 0 0 1\nOffset = 10 20 30\n"
+                       "ElementSpacing = 0.5 2 3\nDimSize = 3 2 1\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n",
+                       bytes, sizeof bytes);
+  const auto v = gio::read_metaimage<float>(scratch("rot.mha"));
+  CHECK(v.orientation == std::array<double, 9>{0, -1, 0, 1, 0, 0, 0, 0, 1});
+  const auto g = v.geometry<3>();
+  CHECK(g.world({2, 0, 0}) == geovoronoi::point<3>{10.0, 21.0, 30.0});
+  CHECK(g.world({0, 1, 0}) == geovoronoi::point<3>{8.0, 20.0, 30.0});
+  CHECK(g.nearest_voxel({8.0, 21.0, 30.0}) == geovoronoi::coord<3>{2, 1, 0});
+  // read back through the image reader: the grid carries the direction
+  CHECK(gio::read_metaimage_image<float>(scratch("rot.mha")).geometry() == g);
+  // the 2D spelling, and Orientation / Rotation as synonyms
+  io_test::write_bytes(scratch("rot2.mha"),
+                       "NDims = 2\nOrientation = 0 1 -1 0\nDimSize = 3 2\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n",
+                       bytes, sizeof bytes);
+  CHECK(gio::read_metaimage<float>(scratch("rot2.mha")).geometry<2>().direction() == geovoronoi::direction_matrix<2>{0, -1, 1, 0});
+  io_test::write_bytes(scratch("rot3.mha"),
+                       "NDims = 3\nRotation = 0 0 1 1 0 0 0 1 0\nDimSize = 3 2 1\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n",
+                       bytes, sizeof bytes);
+  CHECK(gio::read_metaimage<float>(scratch("rot3.mha")).orientation == std::array<double, 9>{0, 1, 0, 0, 0, 1, 1, 0, 0});
+}
+
+TEST_CASE("metaimage: a rotated TransformMatrix survives read -> write -> read bit for bit") {
+  const double c = std::cos(0.7), s = std::sin(0.7);
+  const double cb = std::cos(-1.1), sb = std::sin(-1.1);
+  // a rotation about z times one about x: awkward doubles in every entry but one
+  const std::array<double, 9> d = {c, -s * cb, s * sb, s, c * cb, -c * sb, 0, sb, cb};
+  auto v = sample_volume<float>();
+  v.orientation = d;
+  for (const char* name : {"orient.mhd", "orient.mha", "orient-z.mha"}) {
+    gio::metaimage_write_options opt;
+    opt.compress = std::string(name) == "orient-z.mha" && gio::metaimage_has_zlib;
+    gio::write_metaimage(scratch(name), v, opt);
+    const auto back = gio::read_metaimage<float>(scratch(name));
+    CHECK(back.orientation == d);
+    CHECK(back.data == v.data);
+    gio::write_metaimage(scratch(std::string("again-") + name), back, opt);
+    CHECK(gio::read_metaimage<float>(scratch(std::string("again-") + name)).orientation == d);
+  }
+  // an image written from a rotated grid reads back on the same grid
+  const geovoronoi::grid<3> g({4, 3, 2}, {0.5, 1.5, 2.5}, {1.0, -2.0, 3.0}, d);
+  geovoronoi::image<std::int16_t, 3> img(g, std::int16_t(7));
+  gio::write_metaimage(scratch("orient-img.mha"), img);
+  CHECK(gio::read_metaimage_image<std::int16_t>(scratch("orient-img.mha")).geometry() == g);
+  // and in 2D
+  const geovoronoi::grid<2> h({4, 3}, {0.5, 1.5}, {1.0, -2.0}, {c, -s, s, c});
+  gio::write_metaimage(scratch("orient-2d.mhd"), geovoronoi::image<float, 2>(h, 1.0f));
+  CHECK(gio::read_metaimage_image<float, 2>(scratch("orient-2d.mhd")).geometry() == h);
+}
+
+TEST_CASE("metaimage: singular or non-orthonormal TransformMatrix is rejected, on read and on write") {
+  using io_test::expect_io_error;
+  const std::uint8_t bytes[2] = {1, 2};
+  auto with = [&](const std::string& name, const std::string& m) {
+    io_test::write_bytes(scratch(name), "NDims = 2\nTransformMatrix = " + m +
+                                            "\nDimSize = 2 1\nElementType = MET_UCHAR\nElementDataFile = LOCAL\n",
+                         bytes, sizeof bytes);
+    return [p = scratch(name)] { gio::read_metaimage<float>(p); };
+  };
+  expect_io_error(with("sing.mha", "1 0 0 0"), "sing.mha", "TransformMatrix: the direction matrix [1 0; 0 0] is singular");
+  expect_io_error(with("scaled.mha", "2 0 0 2"), "scaled.mha", "not orthonormal");
+  expect_io_error(with("skew.mha", "1 0 0.5 1"), "skew.mha", "not orthonormal");
+  CHECK_NOTHROW(with("flip.mha", "-1 0 0 1")());
+  auto v = sample_volume<float>();
+  v.orientation = {1, 0, 0, 0, 1, 0, 0, 0, 0};
+  CHECK_THROWS_WITH_AS(gio::write_metaimage(scratch("wsing.mha"), v),
+                       doctest::Contains("singular"), std::invalid_argument);
+  CHECK_FALSE(std::filesystem::exists(scratch("wsing.mha")));
+  CHECK_THROWS_WITH_AS(v.geometry<3>(), doctest::Contains("direction matrix"), std::invalid_argument);
+}
+
+// ---- element conversions -------------------------------------------------------------------------
+
+TEST_CASE("metaimage: values an integer type cannot hold are an error naming the value, never UB") {
+  using io_test::expect_io_error;
+  auto floats = [](const std::string& name, float x) {
+    const float data[4] = {1.0f, 2.0f, 3.0f, x};
+    io_test::write_bytes(scratch(name), "NDims = 1\nDimSize = 4\nElementType = MET_FLOAT\nElementDataFile = LOCAL\n",
+                         data, sizeof data);
+    return scratch(name);
+  };
+  const float inf = std::numeric_limits<float>::infinity();
+  expect_io_error([p = floats("cnan.mha", std::nanf(""))] { gio::read_metaimage<int>(p); }, "cnan.mha", "element 3 is NaN");
+  expect_io_error([p = floats("cinf.mha", inf)] { gio::read_metaimage<int>(p); }, "cinf.mha", "element 3 is +inf");
+  expect_io_error([p = floats("cminf.mha", -inf)] { gio::read_metaimage<std::uint8_t>(p); }, "cminf.mha", "-inf");
+  expect_io_error([p = floats("cbig.mha", 3e9f)] { gio::read_metaimage<std::int32_t>(p); }, "cbig.mha", "int32 cannot hold");
+  expect_io_error([p = floats("c2p31.mha", 2147483648.0f)] { gio::read_metaimage<std::int32_t>(p); }, "c2p31.mha", "2147483648");
+  expect_io_error([p = floats("cneg.mha", -1.0f)] { gio::read_metaimage<std::uint16_t>(p); }, "cneg.mha", "out of range");
+  expect_io_error([p = floats("c300.mha", 300.0f)] { gio::read_metaimage<std::uint8_t>(p); }, "c300.mha", "300");
+  CHECK(gio::read_metaimage<std::int32_t>(floats("cok.mha", 2147483520.0f)).data[3] == 2147483520);
+  CHECK(gio::read_metaimage<std::uint8_t>(floats("cfrac.mha", -0.75f)).data[3] == 0);  // truncated toward 0
+  CHECK(gio::read_metaimage<std::int64_t>(floats("c64.mha", -9.2e18f)).data[3] == std::int64_t(-9.2e18f));
+  // integer to a narrower integer
+  const std::int16_t shorts[2] = {5, -3};
+  io_test::write_bytes(scratch("cshort.mha"), "NDims = 1\nDimSize = 2\nElementType = MET_SHORT\nElementDataFile = LOCAL\n",
+                       shorts, sizeof shorts);
+  expect_io_error([] { gio::read_metaimage<std::uint32_t>(scratch("cshort.mha")); }, "cshort.mha", "element 1 is -3");
+  CHECK(gio::read_metaimage<std::int8_t>(scratch("cshort.mha")).data == std::vector<std::int8_t>{5, -3});
+  // on write: NaN or 1e10 stored as MET_UCHAR / MET_INT
+  auto v = sample_volume<float>();
+  std::fill(v.data.begin(), v.data.end(), 1.5f);
+  v.data[7] = std::nanf("");
+  gio::metaimage_write_options as_uchar;
+  as_uchar.type = gio::element_type::uint8;
+  expect_io_error([&] { gio::write_metaimage(scratch("wnan.mha"), v, as_uchar); }, "wnan.mha", "element 7 is NaN");
+  v.data[7] = 1e10f;
+  as_uchar.type = gio::element_type::int32;
+  expect_io_error([&] { gio::write_metaimage(scratch("wbig.mha"), v, as_uchar); }, "wbig.mha", "int32 cannot hold");
+  // make_volume converting an image
+  geovoronoi::image<double, 2> img(geovoronoi::grid<2>({2, 2}), 1.0);
+  img[3] = -1.0;
+  CHECK_THROWS_WITH_AS(gio::make_volume<std::uint8_t>(img), doctest::Contains("element 3 is -1"), std::invalid_argument);
+}
+
+TEST_CASE("volume::channel checks that data holds channels * voxels values") {
+  gio::volume<float> v;
+  v.extents = {4, 4, 4};
+  v.channels = 2;
+  v.data.assign(64 + 10, 1.0f);  // one channel and a bit
+  CHECK_THROWS_WITH_AS(v.channel<3>(1), doctest::Contains("74 values"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(v.channel<3>(0), doctest::Contains("need 128"), std::invalid_argument);
+  v.data.assign(128, 2.0f);
+  CHECK(v.channel<3>(1).size() == 64);
+  v.data.assign(200, 2.0f);
+  CHECK_THROWS_AS(v.channel<3>(0), std::invalid_argument);
+}
+
+// ---- memory ------------------------------------------------------------------------------------
+
+TEST_CASE("metaimage: a corrupt compressed stream that declares a huge size fails before allocating it") {
+  if (!gio::metaimage_has_zlib) return;
+  // 256 KiB of garbage after a zlib header, declaring 256 MiB of floats (within deflate's ratio)
+  std::string junk(std::size_t(256) << 10, '\0');
+  std::uint32_t x = 12345;
+  for (auto& ch : junk) {
+    x = x * 1664525u + 1013904223u;
+    ch = char(x >> 24);
+  }
+  junk[0] = char(0x78);
+  junk[1] = char(0x9c);
+  io_test::write_text(scratch("zhuge.mha"),
+                      "NDims = 3\nDimSize = 256 256 1024\nElementType = MET_FLOAT\nCompressedData = True\n"
+                      "CompressedDataSize = " + std::to_string(junk.size()) + "\nElementDataFile = LOCAL\n" + junk);
+  alloc_probe::largest = 0;
+  io_test::expect_io_error([] { gio::read_metaimage<float>(scratch("zhuge.mha")); }, "zhuge.mha", "compressed data");
+  INFO("largest allocation: " << alloc_probe::largest.load());
+  CHECK(alloc_probe::largest.load() < (std::size_t(16) << 20));
+}
+
+TEST_CASE("metaimage: a valid compressed stream grows its buffer to exactly the declared size") {
+  if (!gio::metaimage_has_zlib) return;
+  gio::volume<float> v;
+  v.extents = {64, 64, 64};  // 1 MiB of floats that compress well, but not to almost nothing
+  v.data.resize(std::size_t(v.voxels()));
+  for (std::size_t i = 0; i < v.data.size(); ++i) v.data[i] = float((i * 7919) % 251) / 4.0f;
+  gio::metaimage_write_options z;
+  z.compress = true;
+  gio::write_metaimage(scratch("zgrow.mha"), v, z);
+  CHECK(io_test::read_all(scratch("zgrow.mha")).size() < 600000);
+  CHECK(gio::read_metaimage<float>(scratch("zgrow.mha")).data == v.data);
+  // the same stream cut short, without CompressedDataSize to catch it first
+  std::string text = io_test::read_all(scratch("zgrow.mha"));
+  const auto line = text.find("CompressedDataSize");
+  REQUIRE(line != std::string::npos);
+  text.erase(line, text.find('\n', line) + 1 - line);
+  io_test::write_text(scratch("zcut.mha"), text.substr(0, text.size() - 200));
+  io_test::expect_io_error([] { gio::read_metaimage<float>(scratch("zcut.mha")); }, "zcut.mha", "truncated");
+}
+
+TEST_CASE("metaimage: running out of memory names the size and the file") {
+  gio::volume<std::uint8_t> v;
+  v.extents = {64, 32, 16};  // 32 KiB on disk, 256 KiB as double
+  v.data.assign(std::size_t(v.voxels()), std::uint8_t(3));
+  gio::write_metaimage(scratch("oom.mha"), v);
+  alloc_probe::fail_from = 100000;
+  bool thrown = false;
+  try {
+    gio::read_metaimage<double>(scratch("oom.mha"));
+  } catch (const gio::io_error& e) {
+    thrown = true;
+    const std::string what = e.what();
+    INFO(what);
+    CHECK(what.find("oom.mha") != std::string::npos);
+    CHECK(what.find("out of memory") != std::string::npos);
+    CHECK(what.find("262144 bytes") != std::string::npos);
+  }
+  alloc_probe::fail_from = 0;
+  CHECK(thrown);
 }

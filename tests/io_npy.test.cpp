@@ -5,6 +5,7 @@
 #include <geovoronoi/io/npy.hpp>
 
 #include <cstdint>
+#include <limits>
 
 namespace gio = geovoronoi::io;
 using geovoronoi::index_t;
@@ -141,4 +142,15 @@ TEST_CASE("npy: bad files throw io_error naming the file and the problem") {
     io_test::write_text(scratch("cut.npy"), text.substr(0, cut));
     CHECK_THROWS_AS(gio::read_npy<float>(scratch("cut.npy")), gio::io_error);
   }
+}
+
+TEST_CASE("npy: float values an integer type cannot hold are an error naming the value, on read and write") {
+  const float data[3] = {1.0f, std::numeric_limits<float>::infinity(), 2.0f};
+  io_test::write_bytes(scratch("finf.npy"), npy_header("{'descr': '<f4', 'fortran_order': False, 'shape': (3,), }"), data,
+                       sizeof data);
+  io_test::expect_io_error([] { gio::read_npy<std::int16_t>(scratch("finf.npy")); }, "finf.npy", "element 1 is +inf");
+  CHECK(gio::read_npy<double>(scratch("finf.npy")).data[1] == std::numeric_limits<double>::infinity());
+  const double big[2] = {0.0, 1e20};
+  io_test::expect_io_error([&] { gio::write_npy(scratch("wbig.npy"), big, {2}, gio::element_type::int64); }, "wbig.npy",
+                           "element 1 is 1e+20");
 }

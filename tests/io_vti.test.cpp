@@ -152,3 +152,22 @@ TEST_CASE("vti: K-component weights and node indices (shape functions) read back
     CHECK(nback == nodes);
   }
 }
+
+TEST_CASE("vti: Direction is the grid's direction matrix, row by row (VTK's order)") {
+  const geovoronoi::grid<3> g({3, 2, 2}, {1.0, 2.0, 3.0}, {5.0, 6.0, 7.0}, {0, -1, 0, 1, 0, 0, 0, 0, 1});
+  gio::vti_writer<3> w(g);
+  w.add("f", geovoronoi::image<float, 3>(g, 1.0f));
+  w.write(scratch("dir.vti"));
+  CHECK(attribute(io_test::read_all(scratch("dir.vti")), "<ImageData", "Direction") == "0 -1 0 1 0 0 0 0 1");
+  // 2D: the 2 x 2 block, z the identity
+  const geovoronoi::grid<2> h({3, 2}, {1.0, 1.0}, {0.0, 0.0}, {0, 1, -1, 0});
+  gio::vti_writer<2> w2(h);
+  w2.add("f", geovoronoi::image<float, 2>(h, 1.0f));
+  w2.write(scratch("dir2.vti"));
+  CHECK(attribute(io_test::read_all(scratch("dir2.vti")), "<ImageData", "Direction") == "0 1 0 -1 0 0 0 0 1");
+  // the identity stays as before
+  gio::vti_writer<2> w3(geovoronoi::grid<2>({3, 2}));
+  w3.add("f", geovoronoi::image<float, 2>(geovoronoi::grid<2>({3, 2}), 1.0f));
+  w3.write(scratch("dir3.vti"));
+  CHECK(attribute(io_test::read_all(scratch("dir3.vti")), "<ImageData", "Direction") == "1 0 0 0 1 0 0 0 1");
+}

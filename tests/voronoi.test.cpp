@@ -440,4 +440,28 @@ TEST_CASE("seeds_from_world: 3D with an anisotropic grid") {
   CHECK(gv::seeds_from_world(g, {{-1.125, 2.5, 10.0}})[0] == gv::coord<3>{0, 1, 1});  // halves up on every axis
 }
 
+TEST_CASE("seeds_from_world: a rotated grid (the direction matrix) and a diagram that keeps it") {
+  // index x along world -z, index y along world +x, index z along world -y (a reflection-free rotation)
+  const gv::grid<3> g({5, 6, 7}, {0.25, 1.0, 4.0}, {-1.0, 2.0, 8.0}, {0, 1, 0, 0, 0, -1, -1, 0, 0});
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> off(-0.49, 0.49);
+  for (int t = 0; t < 200; ++t) {
+    const gv::coord<3> c{gv::index_t(rng() % 5), gv::index_t(rng() % 6), gv::index_t(rng() % 7)};
+    gv::point<3> u{};  // an offset within the voxel, in index axes, turned into world axes
+    for (int a = 0; a < 3; ++a) u[a] = off(rng) * g.spacing(a);
+    auto w = g.world(c);
+    for (int r = 0; r < 3; ++r)
+      for (int a = 0; a < 3; ++a) w[r] += g.direction(r, a) * u[a];
+    CHECK(gv::seeds_from_world(g, {w})[0] == c);
+  }
+  CHECK(g.world({1, 0, 0}) == gv::point<3>{-1.0, 2.0, 7.75});
+  CHECK(g.world({0, 0, 1}) == gv::point<3>{-1.0, -2.0, 8.0});
+  const std::vector<float> f(std::size_t(g.size()), 1.0f);
+  const auto p = gv::make_problem(g, f, gv::uniform{}, gv::connectivity<6>{});
+  const auto d = gv::voronoi(gv::seq, p, gv::seeds_from_world(g, {{-1.0, 2.0, 7.75}}));
+  CHECK(d.seeds[0] == g.index({1, 0, 0}));
+  CHECK(d.geometry() == g);  // the direction travels into the results
+  CHECK(d.distance.geometry().direction() == g.direction());
+}
+
 }  // namespace

@@ -1,12 +1,15 @@
 #pragma once
 /// @file grid.hpp
-/// @brief The voxel grid policy: extents, anisotropic spacing, origin, 64-bit linear indexing.
+/// @brief The voxel grid policy: extents, anisotropic spacing, origin, direction (orientation),
+///        64-bit linear indexing.
 
 #include <geovoronoi/config.hpp>
 #include <geovoronoi/error.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -20,12 +23,74 @@ using coord = std::array<index_t, Dim>;
 template <int Dim>
 using point = std::array<double, Dim>;
 
+/// A Dim x Dim direction (orientation) matrix, row-major: entry (r, c) at index r * Dim + c. Column c
+/// is the world direction of index axis c (ITK's and VTK's convention).
+template <int Dim>
+using direction_matrix = std::array<double, Dim * Dim>;
+
+/// How far a direction matrix D may be from orthonormal: every entry of D^T D - I must lie within
+/// this bound (which also rules out singular matrices).
+inline constexpr double direction_tolerance = 1e-6;
+
+namespace detail {
+/// The identity direction.
+template <int Dim>
+GEOVORONOI_HOST_DEVICE constexpr direction_matrix<Dim> identity_direction() noexcept {
+  direction_matrix<Dim> d{};
+  for (int a = 0; a < Dim; ++a) d[a * Dim + a] = 1.0;
+  return d;
+}
+
+/// "[a b; c d]" for messages.
+inline std::string matrix_text(const double* d, int n) {
+  std::string s = "[";
+  char buf[32];
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) {
+      std::snprintf(buf, sizeof buf, "%.17g", d[r * n + c]);
+      s += (c ? " " : (r ? "; " : "")) + std::string(buf);
+    }
+  return s + "]";
+}
+
+/// Why the n x n row-major matrix @p d cannot be a grid direction (empty when it can): an entry that
+/// is not finite, a singular matrix, or one that is not orthonormal within direction_tolerance.
+inline std::string direction_problem(const double* d, int n) {
+  for (int i = 0; i < n * n; ++i)
+    if (!std::isfinite(d[i])) return "the direction matrix " + matrix_text(d, n) + " has an entry that is not finite";
+  double det = d[0];
+  if (n == 2) det = d[0] * d[3] - d[1] * d[2];
+  if (n == 3)
+    det = d[0] * (d[4] * d[8] - d[5] * d[7]) - d[1] * (d[3] * d[8] - d[5] * d[6]) + d[2] * (d[3] * d[7] - d[4] * d[6]);
+  double worst = 0;  // largest |(D^T D - I)_ij|
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      double dot = 0;
+      for (int r = 0; r < n; ++r) dot += d[r * n + i] * d[r * n + j];
+      worst = std::max(worst, std::abs(dot - (i == j ? 1.0 : 0.0)));
+    }
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", worst);
+  if (!(std::abs(det) > 1e-12))
+    return "the direction matrix " + matrix_text(d, n) + " is singular (determinant " + std::to_string(det) +
+           "); it must be orthonormal (a rotation, possibly with a reflection)";
+  if (!(worst <= direction_tolerance))
+    return "the direction matrix " + matrix_text(d, n) + " is not orthonormal (largest entry of D^T D - I is " +
+           buf + ", tolerance 1e-6); its columns must be unit vectors at right angles";
+  return {};
+}
+}  // namespace detail
+
 /**
  * @brief A regular 2D or 3D voxel grid.
  *
  * Voxel (i,j,k) has linear index i + nx*(j + ny*k) (x varies fastest) and its centre lies at
- * origin + (i*sx, j*sy, k*sz). The type is trivially copyable and its accessors are host-device, so
- * it can be passed to kernels by value. Construction validates its arguments.
+ * origin + D * (i*sx, j*sy, k*sz), D the direction matrix (identity unless given; ITK's and VTK's
+ * convention: column c of D is the world direction of index axis c). D must be orthonormal within
+ * direction_tolerance, so world-to-index uses its transpose. The solvers never look at origin or
+ * direction: they only travel with the grid to the outputs and to world-coordinate conversions.
+ * The type is trivially copyable and its accessors are host-device, so it can be passed to kernels
+ * by value. Construction validates its arguments.
  *
  * @tparam Dim 2 or 3.
  *
@@ -48,10 +113,14 @@ class grid {
    * @param extents number of voxels along each axis; each must be >= 1.
    * @param spacing physical voxel size along each axis; each must be finite and > 0.
    * @param origin  world position of voxel 0's centre; each must be finite.
-   * @throws std::invalid_argument naming the offending axis, or if the voxel count overflows 64 bits.
+   * @param direction row-major direction matrix; must be orthonormal within direction_tolerance
+   *                (a rotation, possibly with a reflection).
+   * @throws std::invalid_argument naming the offending axis, or if the voxel count overflows 64 bits,
+   *         or naming the direction matrix if it is singular, not finite or not orthonormal.
    */
-  explicit grid(const coord<Dim>& extents, const point<Dim>& spacing = ones(), const point<Dim>& origin = {})
-      : extents_(extents), spacing_(spacing), origin_(origin) {
+  explicit grid(const coord<Dim>& extents, const point<Dim>& spacing = ones(), const point<Dim>& origin = {},
+                const direction_matrix<Dim>& direction = detail::identity_direction<Dim>())
+      : extents_(extents), spacing_(spacing), origin_(origin), direction_(direction) {
     static const char* axis[] = {"x", "y", "z"};
     index_t total = 1;
     for (int a = 0; a < Dim; ++a) {
@@ -67,6 +136,8 @@ class grid {
         throw std::invalid_argument("geovoronoi::grid: the voxel count overflows a 64-bit index");
       total *= extents[a];
     }
+    const std::string bad = detail::direction_problem(direction.data(), Dim);
+    if (!bad.empty()) throw std::invalid_argument("geovoronoi::grid: " + bad);
   }
 
   /// Number of voxels along axis @p a.
@@ -75,6 +146,10 @@ class grid {
   GEOVORONOI_HOST_DEVICE double spacing(int a) const noexcept { return spacing_[a]; }
   GEOVORONOI_HOST_DEVICE const point<Dim>& spacing() const noexcept { return spacing_; }
   GEOVORONOI_HOST_DEVICE const point<Dim>& origin() const noexcept { return origin_; }
+  /// The direction matrix, row-major (identity unless the grid was given one).
+  GEOVORONOI_HOST_DEVICE const direction_matrix<Dim>& direction() const noexcept { return direction_; }
+  /// Entry (r, c) of the direction matrix: component r of index axis c's world direction.
+  GEOVORONOI_HOST_DEVICE double direction(int r, int c) const noexcept { return direction_[r * Dim + c]; }
 
   /// Total number of voxels (0 for a default-constructed grid).
   GEOVORONOI_HOST_DEVICE index_t size() const noexcept {
@@ -114,27 +189,39 @@ class grid {
     return c;
   }
 
-  /// World position of the centre of voxel @p c.
+  /// World position of the centre of voxel @p c: origin + D * (c * spacing). Zero entries of D are
+  /// skipped, so an axis-aligned grid (D with 0 and +-1 entries) computes exactly
+  /// origin + c * spacing per axis.
   GEOVORONOI_HOST_DEVICE point<Dim> world(const coord<Dim>& c) const noexcept {
     point<Dim> p{};
-    for (int a = 0; a < Dim; ++a) p[a] = origin_[a] + static_cast<double>(c[a]) * spacing_[a];
+    for (int r = 0; r < Dim; ++r) {
+      double sum = 0.0;
+      for (int a = 0; a < Dim; ++a)
+        if (direction_[r * Dim + a] != 0.0)
+          sum += direction_[r * Dim + a] * (static_cast<double>(c[a]) * spacing_[a]);
+      p[r] = origin_[r] + sum;
+    }
     return p;
   }
 
-  /// The voxel whose centre is nearest to world point @p p (halves round up). May lie outside the
-  /// grid; check with contains().
+  /// The voxel whose centre is nearest to world point @p p (halves round up): per index axis a,
+  /// floor((D^T (p - origin))_a / spacing_a + 0.5). May lie outside the grid; check with contains().
   coord<Dim> nearest_voxel(const point<Dim>& p) const noexcept {
     coord<Dim> c{};
     for (int a = 0; a < Dim; ++a) {
-      const double f = std::floor((p[a] - origin_[a]) / spacing_[a] + 0.5);
+      double u = 0.0;
+      for (int r = 0; r < Dim; ++r)
+        if (direction_[r * Dim + a] != 0.0) u += direction_[r * Dim + a] * (p[r] - origin_[r]);
+      const double f = std::floor(u / spacing_[a] + 0.5);
       c[a] = (f >= -9.0e18 && f <= 9.0e18) ? static_cast<index_t>(f) : index_t(-1);
     }
     return c;
   }
 
-  /// Grids are equal when extents, spacing and origin are equal.
+  /// Grids are equal when extents, spacing, origin and direction are equal.
   friend bool operator==(const grid& a, const grid& b) noexcept {
-    return a.extents_ == b.extents_ && a.spacing_ == b.spacing_ && a.origin_ == b.origin_;
+    return a.extents_ == b.extents_ && a.spacing_ == b.spacing_ && a.origin_ == b.origin_ &&
+           a.direction_ == b.direction_;
   }
   friend bool operator!=(const grid& a, const grid& b) noexcept { return !(a == b); }
 
@@ -148,6 +235,7 @@ class grid {
   coord<Dim> extents_{};
   point<Dim> spacing_{};
   point<Dim> origin_{};
+  direction_matrix<Dim> direction_ = detail::identity_direction<Dim>();
 };
 
 /// Human-readable "(i, j, k)".

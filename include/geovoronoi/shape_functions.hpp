@@ -36,6 +36,10 @@ enum class shape_method {
   laplace
 };
 
+/// The largest shape_options::max_nodes_per_voxel (K) accepted. Every voxel gets K slots, so K sets
+/// the output's size (voxels x K x 8 bytes or more); SOFA uses 4 to 8.
+inline constexpr int max_nodes_per_voxel_limit = 1024;
+
 /// What a shape_functions() call did, filled when shape_options::stats points to one.
 struct shape_stats {
   /// Worker scratches the Sibson/Laplace query loop created (at most the backend's threads, fewer
@@ -55,7 +59,7 @@ struct shape_options {
   /// The method.
   shape_method method = shape_method::sibson;
   /// K (SOFA's nbRef): the most nodes one voxel keeps; the smallest weights are dropped, then the
-  /// kept ones are renormalised. Must be >= 1.
+  /// kept ones are renormalised. Must be between 1 and max_nodes_per_voxel_limit (1024).
   int max_nodes_per_voxel = 4;
   /// Queries per progress report and cancellation check (Sibson, Laplace), and per backend call on
   /// backends without fused host queries (there memory grows with it). Must be >= 1.
@@ -141,7 +145,7 @@ struct point_weights {
  * @param opt     method, K, batch size, progress callback.
  * @return the weights; bitwise identical for every backend (they return identical diagrams and
  *         query cells, and the accumulation is written once).
- * @throws std::invalid_argument if K < 1, batch_size is 0, d has no seeds, d was computed on another
+ * @throws std::invalid_argument if K < 1 or K > max_nodes_per_voxel_limit, batch_size is 0, d has no seeds, d was computed on another
  *         grid, or d holds a label that is not a node index.
  * @throws geovoronoi::cancelled when the progress callback returns false.
  *
@@ -194,7 +198,8 @@ point_weights<typename P::value_type> shape_functions_at(const Policy& policy, c
  * @param w            shape functions.
  * @param nodal_values w.nodes x C matrix (e.g. an Eigen::MatrixX3f of nodal displacements).
  * @return geometry.size() x C matrix; rows of voxels without weights are 0.
- * @throws std::invalid_argument if nodal_values does not have w.nodes rows.
+ * @throws std::invalid_argument if nodal_values does not have w.nodes rows, or a slot names a node
+ *         outside [0, w.nodes) (or the same node twice in one row); to_sparse_matrix() checks the same.
  */
 template <class T, int Dim, class Derived>
 Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> interpolate(const shape_weights<T, Dim>& w,

@@ -448,16 +448,9 @@ def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 
         qp = _points(points, ndim, bool(world), d.spacing, d.origin, f.shape, "points")
     data, indices, indptr, nodes, fixed_idx, fixed_w = _ext._shape_functions(
         f, list(d.spacing), list(d.origin), d.metric, d.connectivity, _backend(backend), _threads(threads),
-        d._handle, method, int(k), int(batch_size), cb)
-    w = scipy.sparse.csr_array((data, indices, indptr), shape=(f.size, int(nodes)))
-    if qp is not None:
-        # TODO(lead): use the library's shape_functions_at (issue in progress) once it is merged, so
-        # that only the query points are computed; this selects rows of the full result.
-        rows = np.ravel_multi_index(tuple(qp.T), f.shape)
-        w = w[rows]
-        if fixed_k:
-            return w, fixed_idx.reshape(f.size, -1)[rows], fixed_w.reshape(f.size, -1)[rows]
-        return w
+        d._handle, method, int(k), int(batch_size), cb, None if qp is None else np.ascontiguousarray(qp, np.int64))
+    # with points, only those voxels are computed (the library's shape_functions_at): one row each
+    w = scipy.sparse.csr_array((data, indices, indptr), shape=(f.size if qp is None else len(qp), int(nodes)))
     if fixed_k:
         return w, fixed_idx, fixed_w
     return w

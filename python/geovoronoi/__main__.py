@@ -108,12 +108,19 @@ def _write_voronoi(out, d, field, spacing, origin):
                  spacing, origin)
 
 
-def _write_shape(out, w, idx, wt, spacing, origin):
-    # SOFA's layout: K planar channels, node index + 1 (0: none) as uint32, weights as float32
-    gv.write_image(os.path.join(out, "indices.mhd"), np.where(idx >= 0, idx + 1, 0).astype(np.uint32), spacing,
-                   origin, channels=True, planar=True)
-    gv.write_image(os.path.join(out, "weights.mhd"), np.where(idx >= 0, wt, 0).astype(np.float32), spacing, origin,
-                   channels=True, planar=True)
+def _write_shape(out, w, idx, wt, label, spacing, origin):
+    # The CLI's files: node index + 1 (0: none) as uint32 and weights as float32, K channels
+    # interleaved (what MetaImage readers expect) and, for SOFA, planar; ParaView's weights.vti
+    nodes = np.where(idx >= 0, idx + 1, 0).astype(np.uint32)
+    weights = np.where(idx >= 0, wt, 0).astype(np.float32)
+    for suffix, planar in (("_sofa_planar", True), ("", False)):
+        gv.write_image(os.path.join(out, f"indices{suffix}.mhd"), nodes, spacing, origin, channels=True,
+                       planar=planar)
+        gv.write_image(os.path.join(out, f"weights{suffix}.mhd"), weights, spacing, origin, channels=True,
+                       planar=planar)
+    gv.write_vti(os.path.join(out, "weights.vti"),
+                 {"label": label, "weights": weights, "nodes": np.where(idx >= 0, idx, -1).astype(np.int32)},
+                 spacing, origin)
     w = w.astype(np.float32)
     np.save(os.path.join(out, "weights_indptr.npy"), w.indptr.astype(np.int64))
     np.save(os.path.join(out, "weights_indices.npy"), w.indices.astype(np.int32))
@@ -160,7 +167,7 @@ def main(argv=None) -> int:
         if method is not None:
             w, idx, wt = gv.shape_functions(field, d, method=method, k=args.nodes_per_voxel, backend=args.backend,
                                             fixed_k=True)
-            _write_shape(args.out, w, idx, wt, spacing, origin)
+            _write_shape(args.out, w, idx, wt, d.label, spacing, origin)
         print(f"geovoronoi {args.command}: {field.size} voxels, {len(seeds)} seeds, backend "
               f"{gv._ext._resolve_backend(args.backend)}, {time.perf_counter() - start:.2f} s, outputs in {args.out}")
         return 0

@@ -11,7 +11,8 @@ def _voronoi(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: 
              with_parent: bool) -> Tuple[_DiagramHandle, np.ndarray, np.ndarray, Optional[np.ndarray], np.ndarray]: ...
 def _shape_functions(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float], metric: str,
                      connectivity: int, backend: str, threads: int, diagram: _DiagramHandle, method: str, k: int,
-                     batch_size: int, progress: Optional[Callable[[float], Any]]
+                     batch_size: int, progress: Optional[Callable[[float], Any]],
+                     points: Optional[npt.NDArray[np.int64]]
                      ) -> Tuple[np.ndarray, np.ndarray, np.ndarray, int, np.ndarray, np.ndarray]: ...
 def _read_image(path: str) -> Tuple[np.ndarray, list, list, np.ndarray]: ...
 def _write_image(path: str, array: np.ndarray, channels: int, spacing: Sequence[float], origin: Sequence[float],

@@ -318,7 +318,7 @@ inline gv::shape_method parse_method(const std::string& m) {
 
 template <class T, int Dim>
 nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::string& method, int k,
-                      std::size_t batch_size, nb::object progress) {
+                      std::size_t batch_size, nb::object progress, const std::optional<in_array>& points) {
   auto* dp = std::get_if<gv::diagram<T, Dim>>(&h.d);
   if (!dp) throw std::invalid_argument("geovoronoi: the diagram was computed on a field of another dtype or dimension");
   if (h.metric != a.metric || h.connectivity != a.connectivity)
@@ -338,7 +338,13 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
   opt.batch_size = batch_size;
   progress_bridge bridge{progress, 0.0, std::nullopt};
   opt.progress = [&](double f) { return bridge(f); };
-  gv::shape_weights<T, Dim> w;
+  // Without points: every voxel (shape_functions); with points: only those voxels (shape_functions_at),
+  // given as int64 array indices [z, y, x] already bounds-checked by the Python layer.
+  std::optional<std::vector<gv::coord<Dim>>> at;
+  if (points) at = seeds_to_coords<Dim>(g, *points, false);
+  std::vector<label_t> node;
+  std::vector<T> weight;
+  std::size_t kk = 0, nodes = 0;
   try {
     nb::gil_scoped_release release;
     thread_count_scope threads(a.threads);
@@ -346,7 +352,18 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
     with_metric(a.metric, [&](auto metric) {
       with_connectivity<Dim>(a.connectivity, [&](auto conn) {
         const auto p = gv::make_problem(g, gv::image_view<const T, Dim>(g, field), metric, conn);
-        with_backend(backend, [&](const auto& policy) { w = gv::shape_functions(policy, p, *dp, opt); });
+        with_backend(backend, [&](const auto& policy) {
+          auto take = [&](auto&& w) {
+            kk = std::size_t(w.k);
+            nodes = w.nodes;
+            node = std::move(w.node);
+            weight = std::move(w.weight);
+          };
+          if (at)
+            take(gv::shape_functions_at(policy, p, *dp, *at, opt));
+          else
+            take(gv::shape_functions(policy, p, *dp, opt));
+        });
       });
     });
     last_core_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -358,21 +375,21 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
   // finished when it asked to stop
   if (bridge.error) throw std::move(*bridge.error);
   bridge.finish();
-  // CSR (voxels x nodes), column indices sorted within each row.
-  const std::size_t n = std::size_t(g.size()), kk = std::size_t(w.k);
+  // CSR (voxels or points x nodes), column indices sorted within each row.
+  const std::size_t n = at ? at->size() : std::size_t(g.size());
   std::vector<std::int64_t> indptr(n + 1, 0);
   std::vector<std::int32_t> indices;
   std::vector<T> data;
   std::size_t nnz = 0;
   for (std::size_t v = 0; v < n; ++v)
-    for (std::size_t s = 0; s < kk; ++s) nnz += w.node[v * kk + s] >= 0;
+    for (std::size_t s = 0; s < kk; ++s) nnz += node[v * kk + s] >= 0;
   indices.reserve(nnz);
   data.reserve(nnz);
   std::vector<std::pair<label_t, T>> row;
   for (std::size_t v = 0; v < n; ++v) {
     row.clear();
     for (std::size_t s = 0; s < kk; ++s)
-      if (w.node[v * kk + s] >= 0) row.emplace_back(w.node[v * kk + s], w.weight[v * kk + s]);
+      if (node[v * kk + s] >= 0) row.emplace_back(node[v * kk + s], weight[v * kk + s]);
     std::sort(row.begin(), row.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
     for (const auto& [node, weight] : row) {
       indices.push_back(node);
@@ -380,11 +397,10 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
     }
     indptr[v + 1] = std::int64_t(indices.size());
   }
-  std::vector<std::size_t> kshape = shape;
+  std::vector<std::size_t> kshape = at ? std::vector<std::size_t>{n} : shape;
   kshape.push_back(kk);
-  nb::object fixed_idx = vector_to_numpy(std::move(w.node), kshape);
-  nb::object fixed_w = vector_to_numpy(std::move(w.weight), kshape);
-  const std::size_t nodes = w.nodes;
+  nb::object fixed_idx = vector_to_numpy(std::move(node), kshape);
+  nb::object fixed_w = vector_to_numpy(std::move(weight), kshape);
   return nb::make_tuple(vector_to_numpy(std::move(data), {nnz}), vector_to_numpy(std::move(indices), {nnz}),
                         vector_to_numpy(std::move(indptr), {n + 1}), nodes, fixed_idx, fixed_w);
 }
@@ -401,9 +417,9 @@ nb::object voronoi_typed(const problem_args& a, const in_array& seeds, bool worl
 /// shape_functions() on a T field of 2 or 3 dimensions (defined in solve_<T>.cpp).
 template <class T>
 nb::object shape_typed(const problem_args& a, diagram_handle& h, const std::string& method, int k,
-                       std::size_t batch_size, nb::object progress) {
-  if (a.field.ndim() == 2) return shape_impl<T, 2>(a, h, method, k, batch_size, progress);
-  if (a.field.ndim() == 3) return shape_impl<T, 3>(a, h, method, k, batch_size, progress);
+                       std::size_t batch_size, nb::object progress, const std::optional<in_array>& points) {
+  if (a.field.ndim() == 2) return shape_impl<T, 2>(a, h, method, k, batch_size, progress, points);
+  if (a.field.ndim() == 3) return shape_impl<T, 3>(a, h, method, k, batch_size, progress, points);
   throw std::invalid_argument("geovoronoi: the field must be a 2D or 3D array, got " + std::to_string(a.field.ndim()) +
                               " dimensions");
 }
@@ -411,7 +427,7 @@ nb::object shape_typed(const problem_args& a, diagram_handle& h, const std::stri
 #define GEOVORONOI_PY_DECLARE(T, EXTERN)                                                                      \
   EXTERN template nb::object voronoi_typed<T>(const problem_args&, const in_array&, bool, bool);            \
   EXTERN template nb::object shape_typed<T>(const problem_args&, diagram_handle&, const std::string&, int, \
-                                            std::size_t, nb::object);
+                                            std::size_t, nb::object, const std::optional<in_array>&);
 GEOVORONOI_PY_DECLARE(float, extern)
 GEOVORONOI_PY_DECLARE(double, extern)
 

@@ -24,11 +24,12 @@ nb::object voronoi_entry(in_array field, std::vector<double> spacing, std::vecto
 
 nb::object shape_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
                        int connectivity, std::string backend, int threads, diagram_handle& h, std::string method, int k,
-                       std::size_t batch_size, nb::object progress) {
+                       std::size_t batch_size, nb::object progress, std::optional<in_array> points) {
   problem_args a{field, std::move(spacing), std::move(origin), std::move(metric), connectivity, std::move(backend), threads};
   const bool f32 = field.dtype() == nb::dtype<float>(), f64 = field.dtype() == nb::dtype<double>();
   if (!f32 && !f64) throw nb::type_error("geovoronoi: the field must be float32 or float64");
-  return f32 ? shape_typed<float>(a, h, method, k, batch_size, progress) : shape_typed<double>(a, h, method, k, batch_size, progress);
+  return f32 ? shape_typed<float>(a, h, method, k, batch_size, progress, points)
+             : shape_typed<double>(a, h, method, k, batch_size, progress, points);
 }
 
 // ---- images ---------------------------------------------------------------------------------------
@@ -179,7 +180,7 @@ NB_MODULE(_geovoronoi, m) {
   m.def("_shape_functions", &shape_entry, nb::arg("field").noconvert(), nb::arg("spacing"), nb::arg("origin"),
         nb::arg("metric"), nb::arg("connectivity"), nb::arg("backend"), nb::arg("threads"), nb::arg("diagram"),
         nb::arg("method"), nb::arg("k"), nb::arg("batch_size"), nb::arg("progress").none(),
-        "Private: shape_functions() after the Python layer normalised its arguments.");
+        nb::arg("points").none(), "Private: shape_functions() after the Python layer normalised its arguments.");
   m.def("_read_image", &read_image, nb::arg("path"));
   m.def("_write_image", &write_image, nb::arg("path"), nb::arg("array").noconvert(), nb::arg("channels"),
         nb::arg("spacing"), nb::arg("origin"), nb::arg("orientation"), nb::arg("planar"), nb::arg("compress"));

@@ -160,11 +160,13 @@ def test_shape_functions_from_seeds_equal_from_diagram():
     assert (a != b).nnz == 0
 
 
-def test_shape_functions_at_points_are_rows_of_the_full_result():
+@pytest.mark.parametrize("method", ["distance_ratio", "sibson", "laplace"])
+def test_shape_functions_at_points_are_rows_of_the_full_result(method):
     f = field3()
-    full, idx, wt = gv.shape_functions(f, SEEDS3, method="laplace", backend="seq", fixed_k=True)
-    pts = np.array([[1, 2, 3], [5, 6, 7], [0, 1, 0]])
-    w, pidx, pwt = gv.shape_functions(f, SEEDS3, method="laplace", points=pts, backend="seq", fixed_k=True)
+    full, idx, wt = gv.shape_functions(f, SEEDS3, method=method, backend="seq", fixed_k=True)
+    pts = np.array([[1, 2, 3], [5, 6, 7], [0, 1, 0], [5, 6, 7]])  # a repeated point gives the same row twice
+    w, pidx, pwt = gv.shape_functions(f, SEEDS3, method=method, points=pts, backend="seq", fixed_k=True)
+    assert w.shape == (len(pts), len(SEEDS3))
     rows = np.ravel_multi_index(tuple(pts.T), f.shape)
     assert np.array_equal(w.toarray(), full.toarray()[rows])
     assert np.array_equal(pidx, idx.reshape(f.size, -1)[rows])

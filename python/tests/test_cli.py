@@ -83,15 +83,17 @@ def test_shape_functions_bitwise_equal_to_cli(job, method):
     assert np.array_equal(np.load(tmp / "cli" / "weights_indptr.npy"), w.indptr)
     assert np.array_equal(np.load(tmp / "cli" / "weights_indices.npy"), w.indices)
     assert np.array_equal(np.load(tmp / "cli" / "weights_data.npy").view(np.uint32), w.data.view(np.uint32))
-    cidx, *_ = gv.read_image(tmp / "cli" / "indices.mhd")  # planar on disk, read as interleaved: compare raw
-    raw = np.fromfile(tmp / "cli" / "indices.raw", np.uint32)
+    cidx, *_ = gv.read_image(tmp / "cli" / "indices.mhd")  # interleaved: a K-channel image
+    assert np.array_equal(cidx, np.where(idx >= 0, idx + 1, 0))
+    raw = np.fromfile(tmp / "cli" / "indices_sofa_planar.raw", np.uint32)  # SOFA's planar layout
     assert np.array_equal(raw, np.moveaxis(np.where(idx >= 0, idx + 1, 0), -1, 0).ravel())
     # python -m geovoronoi writes the same files, byte for byte
     r = run_py(args + ["--out", str(tmp / "py")])
     assert r.returncode == 0, r.stderr
     for name in ("distance.raw", "label.raw", "indices.raw", "weights.raw", "weights_indptr.npy",
                  "weights_indices.npy", "weights_data.npy", "distance.mhd", "label.mhd", "indices.mhd",
-                 "weights.mhd", "voronoi.vti"):
+                 "weights.mhd", "indices_sofa_planar.mhd", "indices_sofa_planar.raw", "weights_sofa_planar.mhd",
+                 "weights_sofa_planar.raw", "weights.vti", "voronoi.vti"):
         assert (tmp / "py" / name).read_bytes() == (tmp / "cli" / name).read_bytes(), name
 
 

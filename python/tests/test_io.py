@@ -81,3 +81,15 @@ def test_write_vti(tmp_path):
         gv.write_vti(tmp_path / "e.vti", {"a": f, "b": np.ones((3, 4))})
     with pytest.raises(ValueError, match="at least one"):
         gv.write_vti(tmp_path / "e.vti", {})
+
+
+def test_orientation_is_the_direction_matrix_itk_order(tmp_path):
+    # in x, y, z order: index x runs along world +y, index y along world -x
+    d_xyz = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    orient = d_xyz[::-1, ::-1]  # array-axis order (z, y, x)
+    gv.write_image(tmp_path / "r.mha", np.zeros((2, 3, 4), np.uint8), orientation=orient)
+    header = (tmp_path / "r.mha").read_bytes().split(b"ElementDataFile")[0].decode()
+    assert "TransformMatrix = 0 1 0 -1 0 0 0 0 1\n" in header  # ITK lists D's columns
+    assert np.array_equal(gv.read_image(tmp_path / "r.mha")[3], orient)
+    with pytest.raises(ValueError, match="singular"):
+        gv.write_image(tmp_path / "s.mha", np.zeros((2, 2)), orientation=np.zeros((2, 2)))

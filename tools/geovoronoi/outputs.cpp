@@ -21,6 +21,7 @@ using geovoronoi::index_t;
 
 namespace {
 
+/// An empty K-channel volume on @p g, with its direction (so the outputs overlay the input).
 template <class T>
 gio::volume<T> planar_volume(const gv::grid<3>& g, int channels) {
   gio::volume<T> v;
@@ -28,6 +29,7 @@ gio::volume<T> planar_volume(const gv::grid<3>& g, int channels) {
   v.extents = g.extents();
   v.spacing = g.spacing();
   v.origin = g.origin();
+  v.orientation = g.direction();
   v.channels = channels;
   v.data.assign(std::size_t(g.size()) * std::size_t(channels), T(0));
   return v;

@@ -20,7 +20,10 @@
 #include <filesystem>
 #include <system_error>
 #include <fstream>
+#include <cmath>
 #include <limits>
+#include <new>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -96,7 +99,10 @@ struct volume {
 
   index_t voxels() const noexcept { return extents[0] * extents[1] * extents[2]; }
 
-  /// The grid (Dim 2 needs extents[2] == 1).
+  /// The grid (Dim 2 needs extents[2] == 1), with the direction from `orientation` (its upper-left
+  /// 2 x 2 block in 2D).
+  /// @throws std::invalid_argument for a 2D view of several slices, or an orientation that is not
+  ///         orthonormal (grid's check).
   template <int Dim>
   grid<Dim> geometry() const {
     static_assert(Dim == 2 || Dim == 3, "geovoronoi::io::volume: Dim must be 2 or 3");
@@ -104,25 +110,92 @@ struct volume {
       if (extents[2] != 1)
         throw std::invalid_argument("geovoronoi::io::volume: a 3D volume with " + std::to_string(extents[2]) +
                                     " slices cannot be viewed as a 2D grid");
-      return grid<2>({extents[0], extents[1]}, {spacing[0], spacing[1]}, {origin[0], origin[1]});
+      return grid<2>({extents[0], extents[1]}, {spacing[0], spacing[1]}, {origin[0], origin[1]},
+                     {orientation[0], orientation[1], orientation[3], orientation[4]});
     } else {
-      return grid<3>(extents, spacing, origin);
+      return grid<3>(extents, spacing, origin, orientation);
     }
   }
 
   /// One channel as an image (copy).
+  /// @throws std::invalid_argument if @p c is not a channel, or if data does not hold
+  ///         channels * voxels() values.
   template <int Dim = 3>
   image<T, Dim> channel(int c = 0) const {
     if (c < 0 || c >= channels)
       throw std::invalid_argument("geovoronoi::io::volume: channel " + std::to_string(c) + " of " +
                                   std::to_string(channels) + " requested");
     const auto n = static_cast<std::size_t>(voxels());
-    return image<T, Dim>(geometry<Dim>(), std::vector<T>(data.begin() + std::ptrdiff_t(c * n),
-                                                         data.begin() + std::ptrdiff_t((c + 1) * n)));
+    if (extents[0] < 1 || extents[1] < 1 || extents[2] < 1 || data.size() / n != static_cast<std::size_t>(channels) ||
+        data.size() % n != 0)
+      throw std::invalid_argument("geovoronoi::io::volume: data holds " + std::to_string(data.size()) +
+                                  " values, but " + std::to_string(channels) + " channels of " +
+                                  std::to_string(extents[0]) + " x " + std::to_string(extents[1]) + " x " +
+                                  std::to_string(extents[2]) + " voxels need " +
+                                  std::to_string(static_cast<std::size_t>(channels) * n));
+    const auto cs = static_cast<std::size_t>(c);
+    return image<T, Dim>(geometry<Dim>(), std::vector<T>(data.begin() + std::ptrdiff_t(cs * n),
+                                                         data.begin() + std::ptrdiff_t((cs + 1) * n)));
   }
 };
 
-/// A single-channel volume describing an image (same grid, one channel).
+namespace detail {
+/// Whether @p s converts to the arithmetic type D without undefined behaviour or wrapping: finite
+/// and within D's range (after truncation toward zero) for an integer D; always for a float D.
+template <class D, class S>
+bool representable(S s) noexcept {
+  if constexpr (std::is_floating_point_v<D>) {
+    return true;
+  } else if constexpr (std::is_floating_point_v<S>) {
+    if (!(s == s)) return false;
+    // [lo, hi) in double: both are powers of two (or 0), so exact
+    const double lo = std::is_signed_v<D> ? -std::ldexp(1.0, std::numeric_limits<D>::digits) : 0.0;
+    const double hi = std::ldexp(1.0, std::numeric_limits<D>::digits);
+    const double t = std::trunc(static_cast<double>(s));
+    return t >= lo && t < hi;
+  } else {
+    using wide_s = std::conditional_t<std::is_signed_v<S>, std::intmax_t, std::uintmax_t>;
+    const wide_s w = static_cast<wide_s>(s);
+    if constexpr (std::is_signed_v<S>) {
+      if (w < 0) return std::is_signed_v<D> && w >= static_cast<std::intmax_t>(std::numeric_limits<D>::lowest());
+    }
+    // w >= 0 here: compare magnitudes as unsigned
+    return sizeof(S) < sizeof(D) || static_cast<std::uintmax_t>(w) <= static_cast<std::uintmax_t>(std::numeric_limits<D>::max());
+  }
+}
+
+/// Name of a C++ element type for messages.
+template <class T>
+const char* type_name() noexcept {
+  if constexpr (std::is_same_v<T, float>) return "float32";
+  else if constexpr (std::is_same_v<T, double>) return "float64";
+  else if constexpr (std::is_floating_point_v<T>) return "long double";
+  else if constexpr (std::is_signed_v<T>) return sizeof(T) == 1 ? "int8" : sizeof(T) == 2 ? "int16" : sizeof(T) == 4 ? "int32" : "int64";
+  else return sizeof(T) == 1 ? "uint8" : sizeof(T) == 2 ? "uint16" : sizeof(T) == 4 ? "uint32" : "uint64";
+}
+
+/// "element I is V, which TYPE cannot hold (...)": the reason a conversion was refused.
+template <class D, class S>
+std::string unrepresentable(S s, std::size_t i) {
+  std::string value, why;
+  if constexpr (std::is_floating_point_v<S>) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", static_cast<double>(s));
+    value = s != s ? "NaN" : std::isinf(s) ? (s > 0 ? "+inf" : "-inf") : buf;
+    why = s != s || std::isinf(s) ? "not a finite number" : "out of range";
+  } else {
+    value = std::to_string(s);
+    why = "out of range";
+  }
+  return "element " + std::to_string(i) + " is " + value + ", which " + type_name<D>() + " cannot hold (" + why +
+         ": " + type_name<D>() + " holds " + std::to_string(std::numeric_limits<D>::lowest()) + " to " +
+         std::to_string(std::numeric_limits<D>::max()) + ")";
+}
+}  // namespace detail
+
+/// A single-channel volume describing an image (same grid and direction, one channel).
+/// @throws std::invalid_argument naming the first value T cannot hold (NaN, infinite or out of
+///         range for an integer T).
 template <class T, class U, int Dim>
 volume<T> make_volume(const image<U, Dim>& img) {
   volume<T> v;
@@ -131,9 +204,14 @@ volume<T> make_volume(const image<U, Dim>& img) {
     v.extents[a] = img.geometry().extent(a);
     v.spacing[a] = img.geometry().spacing(a);
     v.origin[a] = img.geometry().origin()[a];
+    for (int b = 0; b < Dim; ++b) v.orientation[std::size_t(3 * a + b)] = img.geometry().direction(a, b);
   }
   v.data.resize(static_cast<std::size_t>(img.size()));
-  for (index_t i = 0; i < img.size(); ++i) v.data[static_cast<std::size_t>(i)] = static_cast<T>(img[i]);
+  for (index_t i = 0; i < img.size(); ++i) {
+    if (!detail::representable<T>(img[i]))
+      throw std::invalid_argument("geovoronoi::io::make_volume: " + detail::unrepresentable<T>(img[i], std::size_t(i)));
+    v.data[static_cast<std::size_t>(i)] = static_cast<T>(img[i]);
+  }
   return v;
 }
 
@@ -164,53 +242,83 @@ inline void byte_swap(unsigned char* p, std::size_t n, std::size_t size) noexcep
 }
 
 template <class S, class T>
-void convert_from(const unsigned char* src, std::size_t n, T* out) {
+void convert_from(const std::string& file, const unsigned char* src, std::size_t n, T* out) {
   for (std::size_t i = 0; i < n; ++i) {
     S s;
     std::memcpy(&s, src + i * sizeof(S), sizeof(S));
+    if (!representable<T>(s)) throw io_error(file, "cannot be read as " + std::string(type_name<T>()) + ": " + unrepresentable<T>(s, i));
     out[i] = static_cast<T>(s);
   }
 }
 
-/// Converts n elements of type `type` (native byte order) to T.
+/// Converts n elements of type `type` (native byte order) to T. A value T cannot hold (NaN, +-inf or
+/// out of range for an integer T; fractions are truncated toward zero) throws io_error naming
+/// @p file, the element and the value.
 template <class T>
-void convert(element_type type, const unsigned char* src, std::size_t n, T* out) {
+void convert(const std::string& file, element_type type, const unsigned char* src, std::size_t n, T* out) {
   switch (type) {
-    case element_type::int8: return convert_from<std::int8_t>(src, n, out);
-    case element_type::uint8: return convert_from<std::uint8_t>(src, n, out);
-    case element_type::int16: return convert_from<std::int16_t>(src, n, out);
-    case element_type::uint16: return convert_from<std::uint16_t>(src, n, out);
-    case element_type::int32: return convert_from<std::int32_t>(src, n, out);
-    case element_type::uint32: return convert_from<std::uint32_t>(src, n, out);
-    case element_type::int64: return convert_from<std::int64_t>(src, n, out);
-    case element_type::uint64: return convert_from<std::uint64_t>(src, n, out);
-    case element_type::float32: return convert_from<float>(src, n, out);
-    case element_type::float64: return convert_from<double>(src, n, out);
+    case element_type::int8: return convert_from<std::int8_t>(file, src, n, out);
+    case element_type::uint8: return convert_from<std::uint8_t>(file, src, n, out);
+    case element_type::int16: return convert_from<std::int16_t>(file, src, n, out);
+    case element_type::uint16: return convert_from<std::uint16_t>(file, src, n, out);
+    case element_type::int32: return convert_from<std::int32_t>(file, src, n, out);
+    case element_type::uint32: return convert_from<std::uint32_t>(file, src, n, out);
+    case element_type::int64: return convert_from<std::int64_t>(file, src, n, out);
+    case element_type::uint64: return convert_from<std::uint64_t>(file, src, n, out);
+    case element_type::float32: return convert_from<float>(file, src, n, out);
+    case element_type::float64: return convert_from<double>(file, src, n, out);
   }
 }
 
 template <class D, class T>
-void convert_to(const T* in, std::size_t n, unsigned char* dst) {
+void convert_to(const std::string& file, const T* in, std::size_t n, unsigned char* dst) {
   for (std::size_t i = 0; i < n; ++i) {
+    if (!representable<D>(in[i])) throw io_error(file, "cannot be written as " + std::string(type_name<D>()) + ": " + unrepresentable<D>(in[i], i));
     const D d = static_cast<D>(in[i]);
     std::memcpy(dst + i * sizeof(D), &d, sizeof(D));
   }
 }
 
-/// Converts n values of T to `type` in native byte order.
+/// Converts n values of T to `type` in native byte order; a value the type cannot hold throws
+/// io_error naming @p file (as convert()).
 template <class T>
-void convert_back(element_type type, const T* in, std::size_t n, unsigned char* dst) {
+void convert_back(const std::string& file, element_type type, const T* in, std::size_t n, unsigned char* dst) {
   switch (type) {
-    case element_type::int8: return convert_to<std::int8_t>(in, n, dst);
-    case element_type::uint8: return convert_to<std::uint8_t>(in, n, dst);
-    case element_type::int16: return convert_to<std::int16_t>(in, n, dst);
-    case element_type::uint16: return convert_to<std::uint16_t>(in, n, dst);
-    case element_type::int32: return convert_to<std::int32_t>(in, n, dst);
-    case element_type::uint32: return convert_to<std::uint32_t>(in, n, dst);
-    case element_type::int64: return convert_to<std::int64_t>(in, n, dst);
-    case element_type::uint64: return convert_to<std::uint64_t>(in, n, dst);
-    case element_type::float32: return convert_to<float>(in, n, dst);
-    case element_type::float64: return convert_to<double>(in, n, dst);
+    case element_type::int8: return convert_to<std::int8_t>(file, in, n, dst);
+    case element_type::uint8: return convert_to<std::uint8_t>(file, in, n, dst);
+    case element_type::int16: return convert_to<std::int16_t>(file, in, n, dst);
+    case element_type::uint16: return convert_to<std::uint16_t>(file, in, n, dst);
+    case element_type::int32: return convert_to<std::int32_t>(file, in, n, dst);
+    case element_type::uint32: return convert_to<std::uint32_t>(file, in, n, dst);
+    case element_type::int64: return convert_to<std::int64_t>(file, in, n, dst);
+    case element_type::uint64: return convert_to<std::uint64_t>(file, in, n, dst);
+    case element_type::float32: return convert_to<float>(file, in, n, dst);
+    case element_type::float64: return convert_to<double>(file, in, n, dst);
+  }
+}
+
+/// "1.5 GiB (1610612736 bytes)" for messages.
+inline std::string byte_count(std::uint64_t n) {
+  char buf[64];
+  if (n >= (std::uint64_t(1) << 30)) std::snprintf(buf, sizeof buf, "%.1f GiB", double(n) / double(1 << 30));
+  else if (n >= (std::uint64_t(1) << 20)) std::snprintf(buf, sizeof buf, "%.1f MiB", double(n) / double(1 << 20));
+  else if (n >= 1024) std::snprintf(buf, sizeof buf, "%.1f KiB", double(n) / 1024.0);
+  else return std::to_string(n) + " bytes";
+  return std::string(buf) + " (" + std::to_string(n) + " bytes)";
+}
+
+/// v.resize(n), with std::bad_alloc (or a size beyond max_size()) turned into an io_error that names
+/// @p file, the byte count and what the memory was for.
+template <class V>
+void resize_or_throw(V& v, std::size_t n, const std::string& file, const char* what) {
+  try {
+    v.resize(n);
+  } catch (const std::bad_alloc&) {
+    throw io_error(file, std::string("out of memory allocating ") +
+                             byte_count(std::uint64_t(n) * sizeof(typename V::value_type)) + " for " + what);
+  } catch (const std::length_error&) {
+    throw io_error(file, std::string("cannot allocate ") + byte_count(std::uint64_t(n) * sizeof(typename V::value_type)) +
+                             " for " + what + " (beyond the largest possible array)");
   }
 }
 
@@ -241,7 +349,8 @@ inline std::vector<unsigned char> read_file(const std::string& path) {
   const std::streamoff size = in.tellg();
   if (size < 0) throw io_error(path, "cannot determine the file size");
   in.seekg(0, std::ios::beg);
-  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
+  std::vector<unsigned char> bytes;
+  resize_or_throw(bytes, static_cast<std::size_t>(size), path, "the file's contents");
   if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size))
     throw io_error(path, "read error");
   return bytes;

@@ -166,6 +166,7 @@ inline std::vector<double> parse_reals(const std::string& file, const std::strin
 
 /// Parses the header at the start of `bytes` (the whole file for .mhd, the start of a .mha).
 inline metaimage_header parse_metaimage_header(const std::string& file, const std::vector<unsigned char>& bytes) {
+  using geovoronoi::detail::direction_problem;
   metaimage_header h;
   std::size_t pos = 0;
   int line_no = 0;
@@ -267,66 +268,78 @@ inline metaimage_header parse_metaimage_header(const std::string& file, const st
     for (int a = 0; a < sdims; ++a) h.origin[std::size_t(a)] = o[std::size_t(a)];
   }
   if (!orientation_value.empty()) {
+    // ITK's convention: TransformMatrix lists the direction of index axis 0, then of axis 1, ...: the
+    // columns of the direction matrix D, so value c * n + r is D(r, c). A 4D file's 4 x 4 matrix
+    // keeps its spatial 3 x 3 block.
     const auto o = parse_reals(file, "TransformMatrix", orientation_value, 1, 16);
-    if (o.size() == std::size_t(sdims * sdims)) {
-      for (int r = 0; r < sdims; ++r)
-        for (int c = 0; c < sdims; ++c) h.orientation[std::size_t(3 * r + c)] = o[std::size_t(sdims * r + c)];
-    } else if (o.size() != std::size_t(h.ndims * h.ndims)) {
+    int n = 0;
+    if (o.size() == std::size_t(sdims * sdims)) n = sdims;
+    else if (o.size() == std::size_t(h.ndims * h.ndims)) n = h.ndims;
+    else
       throw io_error(file, "TransformMatrix has " + std::to_string(o.size()) + " values for NDims = " +
                                std::to_string(h.ndims));
-    }
+    for (int r = 0; r < sdims; ++r)
+      for (int c = 0; c < sdims; ++c) h.orientation[std::size_t(3 * r + c)] = o[std::size_t(n * c + r)];
+    double block[9];
+    for (int r = 0; r < sdims; ++r)
+      for (int c = 0; c < sdims; ++c) block[sdims * r + c] = h.orientation[std::size_t(3 * r + c)];
+    const std::string bad = direction_problem(block, sdims);
+    if (!bad.empty()) throw io_error(file, "TransformMatrix: " + bad);
   }
   return h;
 }
 
 #if GEOVORONOI_IO_HAVE_ZLIB
-/// Inflates a zlib or gzip stream into exactly `expected` bytes.
+/// Inflates a zlib or gzip stream into exactly `expected` bytes. The output grows with what the
+/// stream really produces (starting near the compressed size, doubling, never beyond `expected`), so a
+/// corrupt or lying stream fails before a large allocation; more or fewer bytes than `expected` throw.
 inline std::vector<unsigned char> inflate_exact(const std::string& file, const unsigned char* src, std::size_t n,
                                                 std::size_t expected) {
-  std::vector<unsigned char> out(expected);
+  std::vector<unsigned char> out;
+  const auto grow = [&](std::size_t want) {
+    want = std::min(expected, want);
+    resize_or_throw(out, want, file, "the decompressed data");
+  };
+  grow(std::max<std::size_t>(std::size_t(1) << 16, 2 * std::min(n, expected)));
   z_stream zs{};
   if (inflateInit2(&zs, 15 + 32) != Z_OK) throw io_error(file, "zlib initialisation failed");
-  zs.next_in = const_cast<unsigned char*>(src);
-  zs.next_out = out.data();
-  std::size_t in_left = n, out_left = expected;
-  int rc = Z_OK;
+  struct ender {
+    z_stream* z;
+    ~ender() { inflateEnd(z); }
+  } end_stream{&zs};
+  std::size_t in_used = 0, done = 0;
   unsigned char spare[16];
   while (true) {
-    const uInt in_chunk = static_cast<uInt>(std::min<std::size_t>(in_left, 1u << 30));
-    zs.avail_in = in_chunk;
+    if (done == out.size() && out.size() < expected) grow(out.size() <= expected / 2 ? 2 * out.size() : expected);
+    const std::size_t in_chunk_size = std::min<std::size_t>(n - in_used, 1u << 30);
+    zs.next_in = const_cast<unsigned char*>(src) + in_used;
+    zs.avail_in = static_cast<uInt>(in_chunk_size);
     uInt out_chunk;
-    if (out_left == 0) {  // any further output means the stream holds more than the header says
+    if (done == expected) {  // any further output means the stream holds more than the header says
       zs.next_out = spare;
       out_chunk = sizeof spare;
     } else {
-      out_chunk = static_cast<uInt>(std::min<std::size_t>(out_left, 1u << 30));
+      zs.next_out = out.data() + done;
+      out_chunk = static_cast<uInt>(std::min<std::size_t>(out.size() - done, 1u << 30));
     }
     zs.avail_out = out_chunk;
-    rc = inflate(&zs, Z_NO_FLUSH);
-    in_left -= in_chunk - zs.avail_in;
+    const int rc = inflate(&zs, Z_NO_FLUSH);
+    const std::size_t consumed = in_chunk_size - zs.avail_in;
+    in_used += consumed;
     const std::size_t produced = out_chunk - zs.avail_out;
-    if (out_left == 0 && produced > 0) {
-      inflateEnd(&zs);
-      throw io_error(file, "compressed data hold more bytes than DimSize and ElementType imply");
-    }
-    out_left -= produced;
+    if (done == expected && produced > 0)
+      throw io_error(file, "compressed data hold more bytes than DimSize and ElementType imply (" +
+                               std::to_string(expected) + ")");
+    done += produced;
     if (rc == Z_STREAM_END) break;
-    if (rc == Z_BUF_ERROR && in_left == 0 && zs.avail_in == 0) {
-      inflateEnd(&zs);
-      throw io_error(file, "compressed data are truncated");
-    }
-    if (rc != Z_OK && rc != Z_BUF_ERROR) {
-      inflateEnd(&zs);
+    if (rc != Z_OK && rc != Z_BUF_ERROR)
       throw io_error(file, std::string("compressed data are corrupt (zlib: ") + (zs.msg ? zs.msg : "error") + ")");
-    }
-    if (produced == 0 && in_chunk - zs.avail_in == 0) {
-      inflateEnd(&zs);
-      throw io_error(file, "compressed data are truncated");
-    }
+    if (produced == 0 && consumed == 0)
+      throw io_error(file, "compressed data are truncated (the stream ends after " + std::to_string(done) + " of " +
+                               std::to_string(expected) + " bytes)");
   }
-  inflateEnd(&zs);
-  if (out_left != 0)
-    throw io_error(file, "compressed data hold " + std::to_string(expected - out_left) + " bytes, DimSize and ElementType imply " +
+  if (done != expected)
+    throw io_error(file, "compressed data hold " + std::to_string(done) + " bytes, DimSize and ElementType imply " +
                              std::to_string(expected));
   return out;
 }
@@ -430,7 +443,8 @@ volume<T> parse_metaimage(const std::string& path, const std::vector<unsigned ch
     }
     payload = data->data() + start;
     if (h.msb == detail::host_is_little_endian() && es > 1) {
-      raw.assign(payload, payload + bytes);
+      detail::resize_or_throw(raw, std::size_t(bytes), data_path, "the byte-swapped data");
+      std::memcpy(raw.data(), payload, std::size_t(bytes));
       payload = raw.data();
     }
   }
@@ -445,10 +459,16 @@ volume<T> parse_metaimage(const std::string& path, const std::vector<unsigned ch
   v.orientation = h.orientation;
   v.channels = int(channels);
   v.stored = h.type;
-  v.data.resize(std::size_t(values));
-  detail::convert(h.type, payload, std::size_t(values), v.data.data());
-  if (h.channels > 1 && layout == channel_layout::interleaved)
-    v.data = detail::reorder_channels(v.data, std::size_t(voxels), std::size_t(h.channels), true);
+  detail::resize_or_throw(v.data, std::size_t(values), path, "the image");
+  detail::convert(data_path, h.type, payload, std::size_t(values), v.data.data());
+  if (h.channels > 1 && layout == channel_layout::interleaved) {
+    try {
+      v.data = detail::reorder_channels(v.data, std::size_t(voxels), std::size_t(h.channels), true);
+    } catch (const std::bad_alloc&) {
+      throw io_error(path, "out of memory allocating " + detail::byte_count(values * sizeof(T)) +
+                               " to reorder the channels");
+    }
+  }
   return v;
 }
 
@@ -481,6 +501,14 @@ image<T, Dim> read_metaimage_image(const std::string& path, int channel = 0,
 template <class T>
 void write_metaimage(const std::string& path, const volume<T>& v, const metaimage_write_options& opt = {}) {
   const element_type type = opt.type.value_or(v.stored);
+  const int dims = std::max(1, std::min(v.dims, 3));
+  {
+    double block[9];
+    for (int r = 0; r < dims; ++r)
+      for (int c = 0; c < dims; ++c) block[dims * r + c] = v.orientation[std::size_t(3 * r + c)];
+    const std::string bad = geovoronoi::detail::direction_problem(block, dims);
+    if (!bad.empty()) throw std::invalid_argument("geovoronoi::io::write_metaimage: " + path + ": " + bad);
+  }
   const std::size_t voxels = static_cast<std::size_t>(v.voxels());
   const std::size_t channels = static_cast<std::size_t>(v.channels);
   if (v.data.size() != voxels * channels)
@@ -494,7 +522,7 @@ void write_metaimage(const std::string& path, const volume<T>& v, const metaimag
   }
   const std::size_t es = element_size(type);
   std::vector<unsigned char> bytes(values->size() * es);
-  detail::convert_back(type, values->data(), values->size(), bytes.data());
+  detail::convert_back(path, type, values->data(), values->size(), bytes.data());
   if (opt.msb == detail::host_is_little_endian()) detail::byte_swap(bytes.data(), values->size(), es);
   if (opt.compress) {
 #if GEOVORONOI_IO_HAVE_ZLIB
@@ -503,7 +531,6 @@ void write_metaimage(const std::string& path, const volume<T>& v, const metaimag
     throw io_error(path, "compressed MetaImage output needs zlib (build with GEOVORONOI_WITH_ZLIB=1 and link zlib)");
 #endif
   }
-  const int dims = std::max(1, std::min(v.dims, 3));
   const bool local = detail::extension(path) == ".mha";
   std::string raw_path, raw_name = "LOCAL";
   if (!local) {
@@ -520,9 +547,9 @@ void write_metaimage(const std::string& path, const volume<T>& v, const metaimag
   hdr << "ObjectType = Image\nNDims = " << dims << "\nBinaryData = True\nBinaryDataByteOrderMSB = "
       << (opt.msb ? "True" : "False") << "\nCompressedData = " << (opt.compress ? "True" : "False") << "\n";
   if (opt.compress) hdr << "CompressedDataSize = " << bytes.size() << "\n";
-  hdr << "TransformMatrix =";
-  for (int r = 0; r < dims; ++r)
-    for (int c = 0; c < dims; ++c) hdr << " " << detail::format_double(v.orientation[std::size_t(3 * r + c)]);
+  hdr << "TransformMatrix =";  // the columns of the direction matrix, one after another (ITK)
+  for (int c = 0; c < dims; ++c)
+    for (int r = 0; r < dims; ++r) hdr << " " << detail::format_double(v.orientation[std::size_t(3 * r + c)]);
   hdr << "\nOffset = ";
   list(v.origin.data(), dims);
   hdr << "\nElementSpacing = ";

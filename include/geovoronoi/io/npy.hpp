@@ -166,8 +166,8 @@ npy_array<T> parse_npy(const std::string& path, const std::vector<unsigned char>
   a.stored = type;
   std::vector<unsigned char> raw(bytes.begin() + std::ptrdiff_t(data_start), bytes.end());
   if (swap) detail::byte_swap(raw.data(), std::size_t(count), std::size_t(size));
-  a.data.resize(std::size_t(count));
-  detail::convert(type, raw.data(), std::size_t(count), a.data.data());
+  detail::resize_or_throw(a.data, std::size_t(count), path, "the array");
+  detail::convert(path, type, raw.data(), std::size_t(count), a.data.data());
   if (kind == 'b')
     for (auto& x : a.data) x = x != T(0) ? T(1) : T(0);
   return a;
@@ -207,7 +207,7 @@ void write_npy(const std::string& path, const T* data, const std::vector<index_t
   out.insert(out.end(), dict.begin(), dict.end());
   const std::size_t off = out.size();
   out.resize(off + std::size_t(count) * element_size(type));
-  detail::convert_back(type, data, std::size_t(count), out.data() + off);
+  detail::convert_back(path, type, data, std::size_t(count), out.data() + off);
   if (!detail::host_is_little_endian()) detail::byte_swap(out.data() + off, std::size_t(count), element_size(type));
   detail::write_file(path, out.data(), out.size());
 }

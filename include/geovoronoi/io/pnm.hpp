@@ -108,7 +108,11 @@ volume<T> parse_pnm(const std::string& path, const std::vector<unsigned char>& b
   v.spacing = opt.spacing;
   v.origin = opt.origin;
   v.stored = bps == 1 ? element_type::uint8 : element_type::uint16;
-  v.data.resize(std::size_t(voxels));
+  for (std::size_t p = 0; p < pixels; ++p)
+    if (!detail::representable<T>(value[p]))
+      throw io_error(path, "cannot be read as " + std::string(detail::type_name<T>()) + ": " +
+                               detail::unrepresentable<T>(value[p], p));
+  detail::resize_or_throw(v.data, std::size_t(voxels), path, "the extruded volume");
   for (std::size_t z = 0; z < std::size_t(opt.extrude); ++z)
     for (std::size_t p = 0; p < pixels; ++p) v.data[z * pixels + p] = static_cast<T>(value[p]);
   return v;
@@ -120,14 +124,15 @@ volume<T> read_pnm(const std::string& path, const pnm_options& opt = {}) {
   return parse_pnm<T>(path, detail::read_file(path), opt);
 }
 
-/// Writes a single-channel 8-bit picture as binary PGM (P5), rows from y = 0; values are clamped to 0..255.
+/// Writes a single-channel 8-bit picture as binary PGM (P5), rows from y = 0; values are clamped to
+/// 0..255 (NaN is written as 0).
 template <class T>
 void write_pgm(const std::string& path, const T* values, index_t width, index_t height) {
   const std::string hdr = "P5\n" + std::to_string(width) + " " + std::to_string(height) + "\n255\n";
   std::vector<unsigned char> out(hdr.begin(), hdr.end());
   for (index_t i = 0; i < width * height; ++i) {
     const double x = double(values[i]);
-    out.push_back(static_cast<unsigned char>(x <= 0 ? 0 : x >= 255 ? 255 : x + 0.5));
+    out.push_back(static_cast<unsigned char>(!(x > 0) ? 0 : x >= 255 ? 255 : x + 0.5));
   }
   detail::write_file(path, out.data(), out.size());
 }

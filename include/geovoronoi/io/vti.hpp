@@ -2,8 +2,9 @@
 /// @file io/vti.hpp
 /// @brief VTK XML ImageData (`.vti`) writer: one grid, several named point-data arrays, for ParaView.
 ///
-/// Voxel centres are the VTK points, so the file's Origin is the grid origin (voxel 0's centre) and
-/// its WholeExtent is 0..n-1 per axis. Arrays are written either as raw binary in an appended block
+/// Voxel centres are the VTK points, so the file's Origin is the grid origin (voxel 0's centre), its
+/// WholeExtent is 0..n-1 per axis and its Direction is the grid's direction matrix (row by row, VTK's
+/// order; ParaView 5.10+ and VTK 9 apply it). Arrays are written either as raw binary in an appended block
 /// (compact, the default) or base64 inline (pure text, survives any transfer). Multi-component arrays
 /// are interleaved per voxel, as VTK expects.
 ///
@@ -107,15 +108,19 @@ class vti_writer {
     const bool le = detail::host_is_little_endian();
     x << "<?xml version=\"1.0\"?>\n<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\""
       << (le ? "LittleEndian" : "BigEndian") << "\" header_type=\"UInt64\">\n";
-    std::string extent, origin, spacing;
+    std::string extent, origin, spacing, direction;
     for (int a = 0; a < 3; ++a) {
       const index_t n = a < Dim ? grid_.extent(a) : 1;
       extent += (a ? " 0 " : "0 ") + std::to_string(n - 1);
       origin += (a ? " " : "") + detail::format_double(a < Dim ? grid_.origin()[a] : 0.0);
       spacing += (a ? " " : "") + detail::format_double(a < Dim ? grid_.spacing(a) : 1.0);
+      // VTK's Direction is the 3 x 3 direction matrix row by row (a 2D grid's, padded with z = identity)
+      for (int b = 0; b < 3; ++b)
+        direction += (a || b ? " " : "") +
+                     detail::format_double(a < Dim && b < Dim ? grid_.direction(a, b) : (a == b ? 1.0 : 0.0));
     }
     x << "  <ImageData WholeExtent=\"" << extent << "\" Origin=\"" << origin << "\" Spacing=\"" << spacing
-      << "\" Direction=\"1 0 0 0 1 0 0 0 1\">\n";
+      << "\" Direction=\"" << direction << "\">\n";
     x << "    <Piece Extent=\"" << extent << "\">\n      <PointData";
     if (!arrays_.empty()) x << " Scalars=\"" << arrays_[0].name << "\"";
     x << ">\n";

@@ -122,9 +122,9 @@ bool face_in_grid(const P& p, const C& c, const face<P::dim>& f) noexcept {
 template <class P, class D, class Options>
 void validate(const P& p, const D& d, const Options& opt) {
   const std::string who = "geovoronoi::shape_functions: ";
-  if (opt.max_nodes_per_voxel < 1)
+  if (opt.max_nodes_per_voxel < 1 || opt.max_nodes_per_voxel > max_nodes_per_voxel_limit)
     throw std::invalid_argument(who + "max_nodes_per_voxel (K) is " + std::to_string(opt.max_nodes_per_voxel) +
-                                "; it must be >= 1");
+                                "; it must be between 1 and " + std::to_string(max_nodes_per_voxel_limit));
   if (opt.batch_size == 0) throw std::invalid_argument(who + "batch_size is 0; it must be >= 1");
   if (d.seeds.empty()) throw std::invalid_argument(who + "the diagram has no seeds, so there are no nodes");
   if (!(d.geometry() == p.geometry) || d.distance.size() != p.geometry.size() ||

@@ -13,6 +13,27 @@
 namespace geovoronoi {
 
 namespace detail::shape {
+/// Every filled slot must name a node in [0, nodes), at most once per row: anything else would index
+/// past the nodal values (interpolate) or build an invalid sparse matrix (to_sparse_matrix).
+inline void check_slots(const std::vector<label_t>& node, int k, std::size_t nodes, const char* who) {
+  if (k <= 0) return;
+  const std::size_t ks = std::size_t(k);
+  for (std::size_t at = 0; at < node.size(); ++at) {
+    const label_t n = node[at];
+    if (n == no_label) continue;
+    if (n < 0 || std::size_t(n) >= nodes)
+      throw std::invalid_argument(std::string(who) + ": row " + std::to_string(at / ks) + ", slot " +
+                                  std::to_string(at % ks) + " names node " + std::to_string(n) + ", but there are " +
+                                  std::to_string(nodes) + " nodes (valid: 0 to " + std::to_string(nodes) +
+                                  " - 1, or -1 for an empty slot)");
+    for (std::size_t b = at - at % ks; b < at; ++b)
+      if (node[b] == n)
+        throw std::invalid_argument(std::string(who) + ": row " + std::to_string(at / ks) + " names node " +
+                                    std::to_string(n) + " in slots " + std::to_string(b % ks) + " and " +
+                                    std::to_string(at % ks));
+  }
+}
+
 /// Slots (rows x k, -1 empty) as a rows x nodes row-major sparse matrix in T.
 template <class T>
 Eigen::SparseMatrix<T, Eigen::RowMajor> slots_to_sparse(std::size_t rows, int k, std::size_t nodes,
@@ -23,6 +44,7 @@ Eigen::SparseMatrix<T, Eigen::RowMajor> slots_to_sparse(std::size_t rows, int k,
     throw std::invalid_argument(std::string(who) + ": too many rows for Eigen's 32-bit sparse indices");
   if (k < 0 || node.size() != rows * std::size_t(k) || weight.size() != node.size())
     throw std::invalid_argument(std::string(who) + ": node/weight arrays do not hold rows * k entries");
+  check_slots(node, k, nodes, who);
   Eigen::SparseMatrix<T, Eigen::RowMajor> m(static_cast<index>(rows), static_cast<index>(nodes));
   Eigen::Matrix<index, Eigen::Dynamic, 1> per_row(static_cast<index>(rows));
   for (std::size_t v = 0; v < rows; ++v) {
@@ -159,6 +181,7 @@ Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> interpolate(const shape_weights
   const index_t rows = w.geometry.size();
   if (w.node.size() != std::size_t(rows) * std::size_t(w.k) || w.weight.size() != w.node.size())
     throw std::invalid_argument("geovoronoi::interpolate: node/weight arrays do not hold geometry.size() * k entries");
+  detail::shape::check_slots(w.node, w.k, w.nodes, "geovoronoi::interpolate");
   const Eigen::Index cols = nodal_values.cols();
   Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> out =
       Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>::Zero(Eigen::Index(rows), cols);
