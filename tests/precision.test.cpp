@@ -4,8 +4,10 @@
 #include <doctest/doctest.h>
 
 #include <geovoronoi.hpp>
+#include <geovoronoi/io/read.hpp>
 
 #include "core_helpers.hpp"
+#include "io_test_util.hpp"
 
 #include <limits>
 #include <vector>
@@ -109,6 +111,40 @@ TEST_CASE("seq: a cancelled bounded solve leaves the workspace ready for the nex
   CHECK(again.voxel == fresh.voxel);
   CHECK(again.distance == fresh.distance);
   CHECK(again.label == fresh.label);
+}
+
+TEST_CASE("readers: a double value that float would turn into 0 or infinity is an error, not a mask") {
+  namespace gio = geovoronoi::io;
+  const gv::grid<3> g({3, 2, 1});
+  for (double bad : {1e300, -1e300, 1e-50}) {
+    gv::image<double, 3> f(g, 1.0);
+    f[4] = bad;
+    const std::string path = io_test::scratch("precision_f.mhd");
+    gio::write_metaimage(path, f);
+    std::string msg;
+    try {
+      (void)gio::read_volume<float>(path);
+    } catch (const gio::io_error& e) {
+      msg = e.what();
+    }
+    INFO(msg);
+    CHECK(msg.find("element 4") != std::string::npos);
+    CHECK(msg.find(bad > 1 || bad < -1 ? "infinite" : "would become 0") != std::string::npos);
+    // read in double, the value is kept
+    CHECK(gio::read_volume<double>(path).data[4] == bad);
+  }
+  // values float holds (subnormal ones too), zeros and infinities convert as before
+  gv::image<double, 3> ok(g, 1.0);
+  ok[0] = 1e-40;
+  ok[1] = 0.0;
+  ok[2] = std::numeric_limits<double>::infinity();
+  ok[3] = -2.5e38;
+  gio::write_metaimage(io_test::scratch("precision_ok.mhd"), ok);
+  const auto v = gio::read_volume<float>(io_test::scratch("precision_ok.mhd"));
+  CHECK(v.data[0] > 0.0f);
+  CHECK(v.data[1] == 0.0f);
+  CHECK(v.data[2] == std::numeric_limits<float>::infinity());
+  CHECK(v.data[3] == -2.5e38f);
 }
 
 }  // namespace
