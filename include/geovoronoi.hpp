@@ -11,6 +11,7 @@
 #include <geovoronoi/metric.hpp>
 #include <geovoronoi/phantom.hpp>
 #include <geovoronoi/policy.hpp>
+#include <geovoronoi/precision.hpp>
 #include <geovoronoi/problem.hpp>
 #include <geovoronoi/result.hpp>
 #include <geovoronoi/shape_functions.hpp>

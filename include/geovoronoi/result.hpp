@@ -3,10 +3,13 @@
 /// @brief What the solvers return: the dense diagram, sparse (bounded) solutions and query cells.
 
 #include <geovoronoi/config.hpp>
+#include <geovoronoi/error.hpp>
 #include <geovoronoi/grid.hpp>
 #include <geovoronoi/image.hpp>
 
+#include <algorithm>
 #include <cstddef>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -31,7 +34,32 @@ struct solve_options {
   /// Radius bound: voxels whose distance is not < max_distance (compared in the distance type T)
   /// are reported as unreached (+inf, label -1) and the search stops there.
   double max_distance = std::numeric_limits<double>::infinity();
+  /// Optional progress callback: called with the fraction done in [0, 1], non-decreasing, at the
+  /// start, every few thousand settled voxels (seq) or expansion rounds (Thrust), and with 1 at the
+  /// end; returning false stops the solve, which then throws geovoronoi::cancelled (nothing of it
+  /// is kept; the problem, the field and the policy's workspace stay valid for the next call). The
+  /// CUDA backend reports only 0 and 1 (it cannot stop a running solve). Called on the calling thread.
+  std::function<bool(double)> progress = nullptr;
+  /// Host threads of the host-parallel backends (Thrust on OpenMP or TBB); 0: the system's default
+  /// (OMP_NUM_THREADS, TBB's default). Results do not depend on it. Ignored by seq and CUDA.
+  unsigned threads = 0;
 };
+
+namespace detail {
+/// What a backend needs of solve_options besides the radius: the progress callback and the thread
+/// count (dispatch.hpp passes it to the backends that take it).
+struct solve_control {
+  const std::function<bool(double)>* progress = nullptr;
+  unsigned threads = 0;
+
+  static solve_control of(const solve_options& o) noexcept { return {o.progress ? &o.progress : nullptr, o.threads}; }
+  bool reporting() const noexcept { return progress != nullptr && bool(*progress); }
+  /// Reports @p fraction (clamped to [0, 1]); throws geovoronoi::cancelled when asked to stop.
+  void report(double fraction) const {
+    if (reporting() && !(*progress)(std::min(1.0, std::max(0.0, fraction)))) throw cancelled();
+  }
+};
+}  // namespace detail
 
 namespace detail {
 /// solve_options::max_distance converted to T without overflowing: beyond T's range it is +inf.

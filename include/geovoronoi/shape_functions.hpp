@@ -79,6 +79,9 @@ struct shape_options {
   /// Optional progress callback, called between backend calls with the fraction done in [0, 1];
   /// returning false cancels the computation, which then throws geovoronoi::cancelled.
   std::function<bool(double)> progress;
+  /// Host threads of the host-parallel backends (Thrust on OpenMP or TBB; their per-query and
+  /// per-node loops and solves); 0: the system's default. The weights do not depend on it.
+  unsigned threads = 0;
 };
 
 /**

@@ -6,6 +6,7 @@
 ///        policy (is_backend_policy), or a backend that lacks an operation, is a compile error.
 
 #include <geovoronoi/detail/dispatch.hpp>
+#include <geovoronoi/detail/overflow.hpp>
 #include <geovoronoi/detail/validate.hpp>
 #include <geovoronoi/grid.hpp>
 #include <geovoronoi/policy.hpp>
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace geovoronoi {
@@ -59,7 +61,15 @@ template <class T>
 T checked_radius(const solve_options& opt) {
   if (opt.max_distance != opt.max_distance)
     throw std::invalid_argument("geovoronoi: solve_options::max_distance is NaN");
-  return radius_in<T>(opt.max_distance);
+  const T r = radius_in<T>(opt.max_distance);
+  // a positive bound that rounds to 0 would silently reach nothing but the sources at 0 (a bound
+  // beyond T's range is +inf: no finite distance in T reaches it anyway, the same result)
+  if (opt.max_distance > 0 && r == T(0))
+    throw std::invalid_argument("geovoronoi: solve_options::max_distance " + detail::short_number(opt.max_distance) +
+                                " rounds to 0 in the distance type (" +
+                                (std::is_same_v<T, float> ? "float" : "double") +
+                                "); use a double field or rescale the field or the spacing");
+  return r;
 }
 template <class T>
 T checked_radius(T radius, const char* who) {
@@ -75,10 +85,13 @@ T checked_radius(T radius, const char* who) {
  * @param policy backend, e.g. geovoronoi::seq.
  * @param p      the problem (make_problem()).
  * @param seeds  a range of voxel coordinates (coord<Dim>); label i is the i-th seed.
- * @param opt    parent image, radius bound.
- * @return the diagram; bitwise identical for every backend.
+ * @param opt    parent image, radius bound, progress callback, host threads.
+ * @return the diagram; bitwise identical for every backend (and for every opt.threads).
  * @throws std::invalid_argument if the list is empty, or a seed lies outside the grid, on a masked
  *         voxel, or on the same voxel as another seed (the message names the seed).
+ * @throws geovoronoi::overflow_error if, with no radius bound, a distance overflows T (a voxel that
+ *         a path reaches would come out unreachable); the message names the voxel and the value.
+ * @throws geovoronoi::cancelled when opt.progress returns false.
  *
  * @code
  * auto p = geovoronoi::make_problem(g, stiffness, geovoronoi::min_stiffness{}, geovoronoi::connectivity<26>{});
@@ -92,7 +105,10 @@ diagram<typename P::value_type, P::dim> voronoi(const Policy& policy, const P& p
   detail::require_policy<Policy>();
   const auto s = detail::seeds_to_sources(p, seeds);
   detail::validate_sources(p, s);
-  return detail::dispatch::solve(policy, p, s, detail::checked_radius<typename P::value_type>(opt), opt.with_parent);
+  return detail::with_threads(policy, opt.threads, [&] {
+    return detail::dispatch::solve(policy, p, s, detail::checked_radius<typename P::value_type>(opt), opt.with_parent,
+                                   detail::solve_control::of(opt));
+  });
 }
 
 /// @brief The same, building the problem from its parts:
@@ -117,37 +133,51 @@ diagram<typename P::value_type, P::dim> geodesic_solve(const Policy& policy, con
   detail::require_policy<Policy>();
   detail::validate_sources(p, sources, "source");
   const auto radius = detail::checked_radius<typename P::value_type>(opt);
-  if (detail::has_negative_zero(sources))
-    return detail::dispatch::solve(policy, p, detail::without_negative_zero(sources), radius, opt.with_parent);
-  return detail::dispatch::solve(policy, p, sources, radius, opt.with_parent);
+  const auto ctl = detail::solve_control::of(opt);
+  return detail::with_threads(policy, opt.threads, [&] {
+    if (detail::has_negative_zero(sources))
+      return detail::dispatch::solve(policy, p, detail::without_negative_zero(sources), radius, opt.with_parent, ctl);
+    return detail::dispatch::solve(policy, p, sources, radius, opt.with_parent, ctl);
+  });
 }
 
 /**
  * @brief Bounded solve: the voxels whose distance from the sources is < @p radius, as a sparse list
  *        sorted by voxel index. Scratch memory grows with the voxels reached, not with the grid.
+ * @param opt progress callback and threads (its max_distance and with_parent are not used here).
+ * @throws geovoronoi::overflow_error when @p radius is +inf and a distance overflows T;
+ *         geovoronoi::cancelled when the progress callback asks to stop.
  */
 template <class Policy, class P>
 sparse_solution<typename P::value_type> bounded_solve(const Policy& policy, const P& p,
                                                       const std::vector<source<typename P::value_type>>& sources,
-                                                      typename P::value_type radius) {
+                                                      typename P::value_type radius, const solve_options& opt = {}) {
   detail::require_policy<Policy>();
   detail::validate_sources(p, sources, "source");
   detail::checked_radius(radius, "bounded_solve");
-  if (detail::has_negative_zero(sources))
-    return detail::dispatch::bounded(policy, p, detail::without_negative_zero(sources), radius);
-  return detail::dispatch::bounded(policy, p, sources, radius);
+  const auto ctl = detail::solve_control::of(opt);
+  return detail::with_threads(policy, opt.threads, [&] {
+    if (detail::has_negative_zero(sources))
+      return detail::dispatch::bounded(policy, p, detail::without_negative_zero(sources), radius, ctl);
+    return detail::dispatch::bounded(policy, p, sources, radius, ctl);
+  });
 }
 
-/// @brief Single-source solve from voxel @p s, bounded by @p radius (default: unbounded), sparse.
+/// @brief Single-source solve from voxel @p s, bounded by @p radius (default: unbounded), sparse;
+///        @p opt as for bounded_solve().
 template <class Policy, class P>
 sparse_solution<typename P::value_type> single_source(
     const Policy& policy, const P& p, const coord<P::dim>& s,
-    typename P::value_type radius = std::numeric_limits<typename P::value_type>::infinity()) {
+    typename P::value_type radius = std::numeric_limits<typename P::value_type>::infinity(),
+    const solve_options& opt = {}) {
   using T = typename P::value_type;
   detail::require_policy<Policy>();
   const index_t v = detail::checked_voxel(p, s, "source");
   detail::checked_radius(radius, "single_source");
-  return detail::dispatch::bounded(policy, p, std::vector<source<T>>{{v, T(0), 0}}, radius);
+  const auto ctl = detail::solve_control::of(opt);
+  return detail::with_threads(policy, opt.threads, [&] {
+    return detail::dispatch::bounded(policy, p, std::vector<source<T>>{{v, T(0), 0}}, radius, ctl);
+  });
 }
 
 /**

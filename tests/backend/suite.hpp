@@ -253,4 +253,152 @@ TEST_CASE("backend " GEOVORONOI_TEST_BACKEND_NAME ": agrees with seq on a larger
   CHECK(a.parent.values() == b.parent.values());
 }
 
+// ---- overflow, progress, cancellation, threads (issue 12) -----------------------------------------
+
+/// A 2D strip, stiffness b everywhere (min_stiffness: every edge weighs length / b), seed at x = 0.
+inline gv::problem<float, 2, gv::min_stiffness, 4> strip_problem(const std::vector<float>& f, const gv::grid<2>& g) {
+  return gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<4>{});
+}
+
+/// The message of the overflow_error @p f throws ("" when it throws none).
+template <class F>
+std::string overflow_message(F&& f) {
+  try {
+    f();
+  } catch (const gv::overflow_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST_CASE("backend " GEOVORONOI_TEST_BACKEND_NAME ": a float path sum that overflows throws overflow_error") {
+  GV_SUITE_PREAMBLE();
+  // edges of 1e37: the 35th voxel along the strip is beyond float's range (3.4e38)
+  const gv::grid<2> g({48, 3});
+  const std::vector<float> f(g.size(), 1e-37f);
+  const auto p = strip_problem(f, g);
+  const std::vector<gv::coord<2>> seeds{{0, 1}};
+  const std::string got = overflow_message([&] { (void)gv::voronoi(GEOVORONOI_TEST_POLICY(), p, seeds); });
+  const std::string ref = overflow_message([&] { (void)gv::voronoi(gv::seq, p, seeds); });
+  CHECK(ref.find("overflows float") != std::string::npos);
+  CHECK(ref.find("double") != std::string::npos);
+  CHECK(got == ref);  // the same voxel and values on every backend
+  // the unbounded sparse solves too
+  CHECK(overflow_message([&] { (void)gv::single_source(GEOVORONOI_TEST_POLICY(), p, seeds[0]); }) != "");
+  CHECK(overflow_message([&] {
+          (void)gv::bounded_solve(GEOVORONOI_TEST_POLICY(), p, {gv::source<float>{g.index(seeds[0]), 0.0f, 0}},
+                                  std::numeric_limits<float>::infinity());
+        }) != "");
+  // a finite radius bound: the voxels beyond it are unreached by request, nothing is lost
+  const auto capped = gv::voronoi(GEOVORONOI_TEST_POLICY(), p, seeds, gv::solve_options{false, 1e38});
+  CHECK(capped.label[g.index({5, 1})] == 0);
+  CHECK(capped.label[g.index({40, 1})] == gv::no_label);
+  // in double the same problem is fine: every voxel reached
+  const std::vector<double> fd(g.size(), 1e-37);
+  const auto pd = gv::make_problem(g, fd, gv::min_stiffness{}, gv::connectivity<4>{});
+  const auto d = gv::voronoi(GEOVORONOI_TEST_POLICY(), pd, seeds);
+  for (gv::index_t v = 0; v < g.size(); ++v) CHECK(d.label[v] == 0);
+  require_same_diagram(d, gv::voronoi(gv::seq, pd, seeds), "double strip vs seq");
+}
+
+TEST_CASE("backend " GEOVORONOI_TEST_BACKEND_NAME ": an edge weight of +inf from finite values is an overflow") {
+  GV_SUITE_PREAMBLE();
+  const gv::grid<2> g({6, 5});
+  std::vector<float> f(g.size(), 1.0f);
+  f[g.index({3, 2})] = std::numeric_limits<float>::denorm_min();  // 1 / 1.4e-45 is +inf in float
+  const auto p = strip_problem(f, g);
+  const std::vector<gv::coord<2>> seeds{{0, 0}};
+  const std::string got = overflow_message([&] { (void)gv::voronoi(GEOVORONOI_TEST_POLICY(), p, seeds); });
+  CHECK(got.find("(3,2)") != std::string::npos);
+  CHECK(got.find("edge weight") != std::string::npos);
+  CHECK(got == overflow_message([&] { (void)gv::voronoi(gv::seq, p, seeds); }));
+}
+
+TEST_CASE("backend " GEOVORONOI_TEST_BACKEND_NAME ": an infinite sum along one edge of a voxel reached along another is no error") {
+  GV_SUITE_PREAMBLE();
+  // the voxel (3,2) costs 2e38 to enter and as much to leave: leaving it overflows, but its
+  // neighbours are all reached around it, so the float result is complete
+  const gv::grid<2> g({7, 5});
+  std::vector<float> f(g.size(), 1.0f);
+  f[g.index({3, 2})] = 5e-39f;
+  const auto p = strip_problem(f, g);
+  const std::vector<gv::coord<2>> seeds{{0, 0}, {6, 4}};
+  const auto d = gv::voronoi(GEOVORONOI_TEST_POLICY(), p, seeds);
+  for (gv::index_t v = 0; v < g.size(); ++v) CHECK(d.label[v] != gv::no_label);
+  require_same_diagram(d, gv::voronoi(gv::seq, p, seeds), "vs seq");
+}
+
+TEST_CASE("backend " GEOVORONOI_TEST_BACKEND_NAME ": progress rises to 1; cancelling throws and leaves nothing behind") {
+  GV_SUITE_PREAMBLE();
+  const gv::grid<3> g({40, 36, 30});
+  std::vector<float> f(g.size());
+  for (gv::index_t v = 0; v < g.size(); ++v) f[v] = 1.0f + float(g.coords(v)[1] % 7);
+  const auto p = gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<26>{});
+  const std::vector<gv::coord<3>> seeds{{1, 2, 3}, {30, 30, 20}, {10, 30, 5}};
+  const auto ref = gv::voronoi(gv::seq, p, seeds);
+
+  std::vector<double> seen;
+  gv::solve_options opt;
+  opt.progress = [&](double x) {
+    seen.push_back(x);
+    return true;
+  };
+  require_same_diagram(gv::voronoi(GEOVORONOI_TEST_POLICY(), p, seeds, opt), ref, "with a progress callback");
+  REQUIRE(seen.size() >= 2);
+  CHECK(seen.front() == 0.0);
+  CHECK(seen.back() == 1.0);
+  CHECK(std::is_sorted(seen.begin(), seen.end()));
+  for (double x : seen) CHECK((x >= 0.0 && x <= 1.0));
+
+  // the bounded solve reports too
+  seen.clear();
+  const auto src = std::vector<gv::source<float>>{{g.index(seeds[0]), 0.0f, 0}};
+  const auto b = gv::bounded_solve(GEOVORONOI_TEST_POLICY(), p, src, 20.0f, opt);
+  CHECK(b.size() > 0);
+  REQUIRE(seen.size() >= 2);
+  CHECK(seen.back() == 1.0);
+  CHECK(std::is_sorted(seen.begin(), seen.end()));
+
+  // stop at the first call, then at the second: cancelled, and the next solve is right
+  for (int stop_at : {1, 2}) {  // every backend calls at least twice (0 and 1)
+    int calls = 0;
+    gv::solve_options stop;
+    stop.progress = [&](double) { return ++calls < stop_at; };
+    CHECK_THROWS_AS(gv::voronoi(GEOVORONOI_TEST_POLICY(), p, seeds, stop), gv::cancelled);
+    CHECK(calls == stop_at);
+    calls = 0;
+    CHECK_THROWS_AS(gv::bounded_solve(GEOVORONOI_TEST_POLICY(), p, src, 20.0f, stop), gv::cancelled);
+    require_same_diagram(gv::voronoi(GEOVORONOI_TEST_POLICY(), p, seeds), ref, "after a cancelled solve");
+    const auto again = gv::bounded_solve(GEOVORONOI_TEST_POLICY(), p, src, 20.0f);
+    CHECK(again.voxel == b.voxel);
+    CHECK(again.distance == b.distance);
+  }
+}
+
+TEST_CASE("backend " GEOVORONOI_TEST_BACKEND_NAME ": the thread count does not change a bit") {
+  GV_SUITE_PREAMBLE();
+  const gv::grid<3> g({44, 40, 32}, {1.0, 0.8, 1.2});
+  std::vector<float> f(g.size());
+  for (gv::index_t v = 0; v < g.size(); ++v) {
+    const auto c = g.coords(v);
+    f[v] = 1.0f + float((c[0] * 7 + c[1] * 3 + c[2]) % 11);
+  }
+  const auto p = gv::make_problem(g, f, gv::mean_stiffness{}, gv::connectivity<26>{});
+  std::mt19937_64 rng(12);
+  const auto seeds = random_seeds(rng, p, 9);
+  gv::solve_options one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const auto a = gv::voronoi(GEOVORONOI_TEST_POLICY(), p, seeds, one);
+  const auto b = gv::voronoi(GEOVORONOI_TEST_POLICY(), p, seeds, two);
+  require_same_diagram(a, b, "threads 1 vs 2");
+  require_same_diagram(a, gv::voronoi(gv::seq, p, seeds), "threads 1 vs seq");
+  const auto src = std::vector<gv::source<float>>{{g.index(seeds[0]), 0.0f, 0}};
+  const auto s1 = gv::bounded_solve(GEOVORONOI_TEST_POLICY(), p, src, 15.0f, one);
+  const auto s2 = gv::bounded_solve(GEOVORONOI_TEST_POLICY(), p, src, 15.0f, two);
+  CHECK(s1.voxel == s2.voxel);
+  CHECK(s1.distance == s2.distance);
+  CHECK(s1.label == s2.label);
+}
+
 }  // namespace gvsuite

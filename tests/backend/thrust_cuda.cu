@@ -36,8 +36,9 @@ struct policy : gv::thrust::par_on_t<cuda_exec> {
 };
 template <class T, int Dim, int N>
 gv::diagram<T, Dim> backend_solve(const policy&, const gv::problem<T, Dim, gvtest::destination_cost, N>& p,
-                                  const std::vector<gv::source<T>>& s, T radius) {
-  return gv::thrust::backend_solve(gv::thrust::par_on(::thrust::cpp::par), p, s, radius);
+                                  const std::vector<gv::source<T>>& s, T radius,
+                                  const gv::detail::solve_control& ctl = {}) {
+  return gv::thrust::backend_solve(gv::thrust::par_on(::thrust::cpp::par), p, s, radius, ctl);
 }
 }  // namespace gvcuda
 

@@ -6,16 +6,31 @@
 
 namespace gvcli {
 
-gv::diagram<float, 3> thrust_voronoi(const problem_spec& s) { return solve_voronoi(gv::thrust::par, s); }
+template <class T>
+gv::diagram<T, 3> thrust_voronoi(const problem_spec<T>& s) {
+  return solve_voronoi(gv::thrust::par, s);
+}
 
-gv::shape_weights<float, 3> thrust_shape(const problem_spec& s, const gv::diagram<float, 3>& d,
-                                         const gv::shape_options& opt) {
+template <class T>
+gv::shape_weights<T, 3> thrust_shape(const problem_spec<T>& s, const gv::diagram<T, 3>& d, const gv::shape_options& opt) {
   return solve_shape(gv::thrust::par, s, d, opt);
 }
 
-gv::point_weights<float> thrust_shape_at(const problem_spec& s, const gv::diagram<float, 3>& d, const point_spec& at,
-                                   const gv::shape_options& opt) {
+template <class T>
+gv::point_weights<T> thrust_shape_at(const problem_spec<T>& s, const gv::diagram<T, 3>& d, const point_spec& at,
+                                  const gv::shape_options& opt) {
   return solve_shape_at(gv::thrust::par, s, d, at, opt);
 }
+
+template gv::diagram<float, 3> thrust_voronoi(const problem_spec<float>&);
+template gv::diagram<double, 3> thrust_voronoi(const problem_spec<double>&);
+template gv::shape_weights<float, 3> thrust_shape(const problem_spec<float>&, const gv::diagram<float, 3>&,
+                                                const gv::shape_options&);
+template gv::shape_weights<double, 3> thrust_shape(const problem_spec<double>&, const gv::diagram<double, 3>&,
+                                                 const gv::shape_options&);
+template gv::point_weights<float> thrust_shape_at(const problem_spec<float>&, const gv::diagram<float, 3>&,
+                                               const point_spec&, const gv::shape_options&);
+template gv::point_weights<double> thrust_shape_at(const problem_spec<double>&, const gv::diagram<double, 3>&,
+                                                const point_spec&, const gv::shape_options&);
 
 }  // namespace gvcli

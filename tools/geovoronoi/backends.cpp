@@ -36,16 +36,19 @@ bool cuda_usable() { return cuda_problem().empty(); }
 
 const std::vector<backend>& backends() {
   static const std::vector<backend> table = {
-      {"seq", true, [] { return std::string("sequential Dijkstra"); }, runs_here, always, seq_voronoi, seq_shape, seq_shape_at},
+      {"seq", true, [] { return std::string("sequential Dijkstra"); }, runs_here, always,
+       GEOVORONOI_CLI_FNS(seq, float), GEOVORONOI_CLI_FNS(seq, double)},
 #if defined(GEOVORONOI_CLI_THRUST)
-      {"thrust", true, threads_text, runs_here, several_threads, thrust_voronoi, thrust_shape, thrust_shape_at},
+      {"thrust", true, threads_text, runs_here, several_threads, GEOVORONOI_CLI_FNS(thrust, float),
+       GEOVORONOI_CLI_FNS(thrust, double)},
 #else
-      {"thrust", false, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
+      {"thrust", false, nullptr, nullptr, nullptr, {}, {}},
 #endif
 #if defined(GEOVORONOI_CLI_CUDA)
-      {"cuda", true, cuda_text, cuda_problem, cuda_usable, cuda_voronoi, cuda_shape, cuda_shape_at},
+      {"cuda", true, cuda_text, cuda_problem, cuda_usable, GEOVORONOI_CLI_FNS(cuda, float),
+       GEOVORONOI_CLI_FNS(cuda, double)},
 #else
-      {"cuda", false, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr},
+      {"cuda", false, nullptr, nullptr, nullptr, {}, {}},
 #endif
   };
   return table;
@@ -80,14 +83,13 @@ const backend& pick_backend(const arguments& a) {
   throw usage_error("unknown backend '" + name + "' (" + known + ")");
 }
 
-void use_threads(const arguments& a) {
-  if (!a.has("--threads")) return;
+unsigned use_threads(const arguments& a) {
+  if (!a.has("--threads")) return 0;
   const int n = int(a.integer("--threads", 0, 1, max_threads()));
 #if defined(_OPENMP)
   omp_set_num_threads(n);
-#else
-  (void)n;
 #endif
+  return unsigned(n);
 }
 
 }  // namespace gvcli

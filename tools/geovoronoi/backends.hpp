@@ -6,6 +6,7 @@
 #include "solve.hpp"
 
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace gvcli {
@@ -19,10 +20,16 @@ struct backend {
   std::string (*unavailable)();
   /// Whether it is worth choosing by default when it can run (see default_backend()).
   bool (*worth_default)();
-  gv::diagram<float, 3> (*voronoi)(const problem_spec&);
-  gv::shape_weights<float, 3> (*shape)(const problem_spec&, const gv::diagram<float, 3>&, const gv::shape_options&);
-  gv::point_weights<float> (*shape_at)(const problem_spec&, const gv::diagram<float, 3>&, const point_spec&,
-                                       const gv::shape_options&);
+  /// How it solves, in float and in double (`--precision`).
+  solver_fns<float> in_float;
+  solver_fns<double> in_double;
+  template <class T>
+  const solver_fns<T>& fns() const noexcept {
+    if constexpr (std::is_same_v<T, float>)
+      return in_float;
+    else
+      return in_double;
+  }
 };
 
 /// Every backend the tool knows, slowest first: seq, thrust, cuda.
@@ -40,9 +47,10 @@ const backend& default_backend();
 /// cannot run here.
 const backend& pick_backend(const arguments& a);
 
-/// `--threads N`: how many OpenMP threads the thrust backend uses, 1 to max_threads() (4 x the
-/// hardware threads, errors.hpp); overrides OMP_NUM_THREADS. No effect on seq (one thread) or cuda.
-/// A usage_error when N is out of range.
-void use_threads(const arguments& a);
+/// `--threads N`: how many threads the thrust backend uses, 1 to max_threads() (4 x the hardware
+/// threads, errors.hpp); overrides OMP_NUM_THREADS. Returns N (0 without the option), which the
+/// solves pass on as solve_options::threads / shape_options::threads; also sets the OpenMP default.
+/// No effect on seq (one thread) or cuda. A usage_error when N is out of range.
+unsigned use_threads(const arguments& a);
 
 }  // namespace gvcli

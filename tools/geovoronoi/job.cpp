@@ -7,10 +7,12 @@
 
 #include <geovoronoi/backend/choose.hpp>
 #include <geovoronoi/io/read.hpp>
+#include <geovoronoi/precision.hpp>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <regex>
 #include <thread>
@@ -57,7 +59,8 @@ std::string locate_seed_error(std::string msg, const std::string& path, const st
 /// a path of zero-weight edges (cost 0 under mean_cost) joins two seeds: both are at distance 0 and the
 /// lower index wins the tie, so the later seed has no cell and every result built on it is garbage.
 /// That is an input problem (exit 2), reported before anything is written.
-void require_own_voxels(const gv::diagram<float, 3>& d, const std::string& path, const std::vector<int>& lines) {
+template <class T>
+void require_own_voxels(const gv::diagram<T, 3>& d, const std::string& path, const std::vector<int>& lines) {
   const auto& g = d.geometry();
   const auto line_of = [&](std::size_t i) { return i < lines.size() ? std::to_string(lines[i]) : std::string("?"); };
   for (std::size_t i = 0; i < d.seeds.size(); ++i) {
@@ -72,10 +75,40 @@ void require_own_voxels(const gv::diagram<float, 3>& d, const std::string& path,
   }
 }
 
+/// `--precision float|double|auto` (default float).
+std::string precision_option(const arguments& a) {
+  const std::string p = a.get("--precision", "float");
+  if (p != "float" && p != "double" && p != "auto")
+    throw usage_error("--precision must be float, double or auto, got '" + p + "'");
+  return p;
+}
+
+/// The field in float, refusing a value that float would turn into 0 or +-inf (a stiffness of 1e-50
+/// would silently leave the object, 1e300 would become an infinitely stiff voxel).
+gv::image<float, 3> to_float(const gv::image<double, 3>& f, const std::string& path) {
+  gv::image<float, 3> out(f.geometry(), 0.0f);
+  for (index_t v = 0; v < f.size(); ++v) {
+    const double x = f[v];
+    if (!gv::fits_in<float>(x)) {
+      const auto c = f.geometry().coords(v);
+      char value[32];
+      std::snprintf(value, sizeof value, "%.9g", x);
+      throw usage_error(path + ": the value " + value + " at voxel (" + std::to_string(c[0]) + "," +
+                        std::to_string(c[1]) + "," + std::to_string(c[2]) + ") " +
+                        (std::fabs(x) > 1 ? "is beyond float's range (it would become infinite)"
+                                          : "is too small for float (it would become 0)") +
+                        "; use --precision double (or auto), or rescale the field");
+    }
+    out[v] = static_cast<float>(x);
+  }
+  return out;
+}
+
 }  // namespace
 
 std::set<std::string> solve_options(std::set<std::string> extra) {
-  extra.insert({"--stiffness", "--seeds", "--metric", "--connectivity", "--backend", "--out", "--extrude", "--threads"});
+  extra.insert({"--stiffness", "--seeds", "--metric", "--connectivity", "--backend", "--out", "--extrude", "--threads",
+                "--precision"});
   return extra;
 }
 
@@ -91,18 +124,35 @@ job load_job(const arguments& a) {
   j.connectivity = int(a.integer("--connectivity", 26, 0, 1000));
   with_connectivity(j.connectivity, [](auto) {});
   j.solver = &pick_backend(a);
-  use_threads(a);
+  j.threads = use_threads(a);
+  const std::string precision = precision_option(a);
   const std::string ext = lower_extension(j.stiffness_path);
   const bool picture = ext == ".pgm" || ext == ".ppm" || ext == ".pnm";
   if (a.has("--extrude") && !picture) throw usage_error("--extrude applies to .pgm/.ppm pictures only");
   gio::read_options ro;
   ro.extrude = index_t(a.integer("--extrude", 1, 1, 100000));
   require_regular_file(j.stiffness_path, "a stiffness file");
-  auto vol = gio::read_volume<float>(j.stiffness_path, ro);
+  // read in double, so that float's limits are checked here rather than met silently in the reader
+  auto vol = gio::read_volume<double>(j.stiffness_path, ro);
   if (vol.channels != 1)
     throw usage_error(j.stiffness_path + ": has " + std::to_string(vol.channels) + " channels; a stiffness image needs 1");
-  j.field = vol.channel<3>(0);
-  const auto& g = j.field.geometry();
+  j.field_double = vol.channel<3>(0);
+  vol = {};
+  if (precision == "double") {
+    j.in_double = true;
+  } else if (precision == "auto") {  // double only when float could overflow or lose a value
+    with_metric(j.metric, [&](auto metric) {
+      with_connectivity(j.connectivity, [&](auto conn) {
+        j.in_double = gv::needs_double(j.field_double.geometry(), j.field_double.data(),
+                                       std::size_t(j.field_double.size()), metric, conn);
+      });
+    });
+  }
+  if (!j.in_double) {
+    j.field = to_float(j.field_double, j.stiffness_path);
+    j.field_double = {};
+  }
+  const auto& g = j.geometry();
   const bool world = a.has("--world");
   for (const auto& r : read_seed_rows(j.seeds_path, !world)) {
     const std::string where = j.seeds_path + ":" + std::to_string(r.line) + ": seed ";
@@ -124,42 +174,67 @@ job load_job(const arguments& a) {
     bool gpu = false;
     for (const auto& b : backends())
       if (std::string(b.name) == "cuda" && b.built && b.unavailable().empty()) gpu = true;
-    with_problem(j.spec(), [&](const auto& p) {
-      const auto k = gv::recommended_backend(p, std::thread::hardware_concurrency(), gpu);
-      for (const auto& b : backends())
-        if (b.built && std::string(b.name) == gv::to_string(k) && b.unavailable().empty()) j.solver = &b;
+    with_precision(j, [&](auto t) {
+      with_problem(j.spec<decltype(t)>(), [&](const auto& p) {
+        const auto k = gv::recommended_backend(p, std::thread::hardware_concurrency(), gpu);
+        for (const auto& b : backends())
+          if (b.built && std::string(b.name) == gv::to_string(k) && b.unavailable().empty()) j.solver = &b;
+      });
     });
   }
   return j;
 }
 
-gv::diagram<float, 3> solve_diagram(const job& j) {
+template <class T>
+gv::diagram<T, 3> solve_diagram(const job& j, const std::function<bool(double)>& progress) {
   auto d = [&] {
     try {
-      return j.solver->voronoi(j.spec());
+      auto s = j.spec<T>();
+      s.progress = progress;
+      return j.solver->fns<T>().voronoi(s);
     } catch (const std::invalid_argument& e) {
       throw usage_error(locate_seed_error(e.what(), j.seeds_path, j.seed_lines));
+    } catch (const gv::overflow_error& e) {
+      std::string m = e.what();
+      if (m.compare(0, 12, "geovoronoi: ") == 0) m.erase(0, 12);
+      throw usage_error(j.stiffness_path + ": " + m + " (on the command line: --precision double, or auto)");
     }
   }();
   require_own_voxels(d, j.seeds_path, j.seed_lines);
   return d;
 }
 
+template gv::diagram<float, 3> solve_diagram(const job&, const std::function<bool(double)>&);
+template gv::diagram<double, 3> solve_diagram(const job&, const std::function<bool(double)>&);
+
+namespace {
+template <class T>
+void diagram_and_outputs(const job& j, output_dir& out, progress_bar& bar, const after_diagram<T>& more) {
+  bar.update("voronoi", 0.0);
+  const auto d = solve_diagram<T>(j, [&](double x) {
+    bar.set_fraction(x);
+    return true;
+  });
+  bar.update("writing");
+  write_voronoi(out, d, j.field_in<T>(), j.pictures());
+  if (more) more(j, d, out, bar);
+}
+}  // namespace
+
 int solve_and_write(const char* command, const arguments& a, const std::function<void(const job&)>& check,
-                    const std::function<void(const job&, const gv::diagram<float, 3>&, output_dir&, progress_bar&)>& more) {
+                    const after_diagram<float>& more_float, const after_diagram<double>& more_double) {
   progress_bar bar(std::string("geovoronoi ") + command);
   bar.update("reading");
   const job j = load_job(a);
   if (check) check(j);
   output_dir out(j.out, {j.stiffness_path, j.seeds_path}, std::string("geovoronoi ") + command);
-  bar.update("voronoi");
-  const auto d = solve_diagram(j);
-  bar.update("writing");
-  write_voronoi(out, d, j.field, j.pictures());
-  more(j, d, out, bar);
+  if (j.in_double)
+    diagram_and_outputs<double>(j, out, bar, more_double);
+  else
+    diagram_and_outputs<float>(j, out, bar, more_float);
   out.commit();
   bar.finish();
-  summary(command, j.field.geometry(), j.seeds.size(), j.solver->name, bar.seconds(), j.out);
+  summary(command, j.geometry(), j.seeds.size(), j.solver->name, bar.seconds(), j.out);
   return 0;
 }
 

@@ -12,6 +12,7 @@
 #include <functional>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace gvcli {
@@ -21,10 +22,29 @@ struct job {
   std::string stiffness_path, seeds_path, metric = "min_stiffness", out;
   int connectivity = 26;
   const backend* solver = nullptr;
+  /// `--threads N`, 0 without it (solve_options::threads).
+  unsigned threads = 0;
+  /// `--precision`: whether the whole pipeline runs in double (then field_double holds the field,
+  /// else field does).
+  bool in_double = false;
   gv::image<float, 3> field;
+  gv::image<double, 3> field_double;
   std::vector<gv::coord<3>> seeds;
   std::vector<int> seed_lines;  ///< the seed file's line of each seed
-  problem_spec spec() const { return {field, seeds, metric, connectivity}; }
+
+  const gv::grid<3>& geometry() const noexcept { return in_double ? field_double.geometry() : field.geometry(); }
+  const char* precision_name() const noexcept { return in_double ? "double" : "float"; }
+  template <class T>
+  const gv::image<T, 3>& field_in() const noexcept {
+    if constexpr (std::is_same_v<T, float>)
+      return field;
+    else
+      return field_double;
+  }
+  template <class T>
+  problem_spec<T> spec() const {
+    return {field_in<T>(), seeds, metric, connectivity, threads};
+  }
   /// How its pictures are titled (metric, neighbours; lengths in the volume's unit).
   picture_context pictures() const { return {metric, "LENGTH", connectivity}; }
 };
@@ -36,15 +56,30 @@ std::set<std::string> solve_flags();
 
 job load_job(const arguments& a);
 
-/// The diagram of @p j on its backend; the library's seed errors (outside, masked, duplicate) come
-/// back as a usage_error naming the seed file and line, and so does a seed at geodesic distance 0
-/// from another (a zero-cost path joins them), which would have no cell of its own.
-gv::diagram<float, 3> solve_diagram(const job& j);
+/// Calls f(T{}) with T = double when @p j runs in double, else float.
+template <class F>
+decltype(auto) with_precision(const job& j, F&& f) {
+  if (j.in_double) return f(double{});
+  return f(float{});
+}
+
+/// The diagram of @p j on its backend, in T; the library's seed errors (outside, masked, duplicate)
+/// come back as a usage_error naming the seed file and line, and so does a seed at geodesic distance 0
+/// from another (a zero-cost path joins them), which would have no cell of its own, and a distance
+/// that overflows T (geovoronoi::overflow_error: exit 2, suggesting --precision double).
+/// @p progress (may be empty) receives the solve's fraction done.
+template <class T>
+gv::diagram<T, 3> solve_diagram(const job& j, const std::function<bool(double)>& progress = nullptr);
+
+/// What a command does after the diagram (the shape functions), in T.
+template <class T>
+using after_diagram = std::function<void(const job&, const gv::diagram<T, 3>&, output_dir&, progress_bar&)>;
 
 /// Loads the job, runs `check(job)` (a command's own checks that need the job, before any work; may
 /// be empty), solves the diagram, writes the voronoi outputs, then `more(job, diagram, out, bar)`
-/// (the shape functions), moves the outputs into place and prints the summary line.
+/// (the shape functions; more_float or more_double by the job's precision), moves the outputs into
+/// place and prints the summary line.
 int solve_and_write(const char* command, const arguments& a, const std::function<void(const job&)>& check,
-                    const std::function<void(const job&, const gv::diagram<float, 3>&, output_dir&, progress_bar&)>& more);
+                    const after_diagram<float>& more_float, const after_diagram<double>& more_double);
 
 }  // namespace gvcli

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 namespace gvcli {
@@ -36,7 +37,8 @@ gio::volume<T> planar_volume(const gv::grid<3>& g, int channels) {
 
 }  // namespace
 
-void write_voronoi(const output_dir& out, const gv::diagram<float, 3>& d, const gv::image<float, 3>& field,
+template <class T>
+void write_voronoi(const output_dir& out, const gv::diagram<T, 3>& d, const gv::image<T, 3>& field,
                    const picture_context& pc) {
   gio::write_metaimage(out.file("distance.mhd"), d.distance);
   gio::write_metaimage(out.file("label.mhd"), d.label);
@@ -48,17 +50,18 @@ void write_voronoi(const output_dir& out, const gv::diagram<float, 3>& d, const 
   w.write(out.file("voronoi.vti"));
 }
 
-void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, const gv::diagram<float, 3>& d,
-                 int png_node, const picture_context& pc, const std::string& method) {
+template <class T>
+void write_shape(const std::string& dir, const gv::shape_weights<T, 3>& w, const gv::diagram<T, 3>& d, int png_node,
+                 const picture_context& pc, const std::string& method) {
   const auto& g = w.geometry;
   const std::size_t n = std::size_t(g.size()), k = std::size_t(w.k);
   auto idx = planar_volume<std::uint32_t>(g, w.k);
-  auto wt = planar_volume<float>(g, w.k);
+  auto wt = planar_volume<T>(g, w.k);
   for (std::size_t v = 0; v < n; ++v)
     for (std::size_t s = 0; s < k; ++s) {
       const auto node = w.node[v * k + s];
       idx.data[s * n + v] = node < 0 ? 0u : std::uint32_t(node) + 1u;
-      wt.data[s * n + v] = node < 0 ? 0.0f : float(w.weight[v * k + s]);
+      wt.data[s * n + v] = node < 0 ? T(0) : w.weight[v * k + s];
     }
   gio::metaimage_write_options planar;
   planar.layout = gio::channel_layout::planar;
@@ -69,10 +72,10 @@ void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, c
   {
     // ParaView: the weights and node indices as K-component arrays (node index 0-based, -1 empty)
     std::vector<std::int32_t> nodes(n * k);
-    std::vector<float> weights(n * k);
+    std::vector<T> weights(n * k);
     for (std::size_t i = 0; i < n * k; ++i) {
       nodes[i] = w.node[i] < 0 ? -1 : std::int32_t(w.node[i]);
-      weights[i] = w.node[i] < 0 ? 0.0f : float(w.weight[i]);
+      weights[i] = w.node[i] < 0 ? T(0) : w.weight[i];
     }
     gio::vti_writer<3> vw(g);
     vw.add("label", d.label)
@@ -85,7 +88,7 @@ void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, c
   std::vector<std::int64_t> indptr(std::size_t(m.rows()) + 1);
   for (std::size_t r = 0; r < indptr.size(); ++r) indptr[r] = m.outerIndexPtr()[r];
   std::vector<std::int32_t> indices(m.innerIndexPtr(), m.innerIndexPtr() + m.nonZeros());
-  std::vector<float> data(m.valuePtr(), m.valuePtr() + m.nonZeros());
+  std::vector<T> data(m.valuePtr(), m.valuePtr() + m.nonZeros());
   gio::write_npy(dir + "/weights_indptr.npy", indptr);
   gio::write_npy(dir + "/weights_indices.npy", indices);
   gio::write_npy(dir + "/weights_data.npy", data);
@@ -103,13 +106,14 @@ void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, c
                  gio::weight_picture(one, png_node, d.seeds, pc.options(method + " SHAPE FUNCTION")));
 }
 
-void write_shape_at(const std::string& dir, const gv::point_weights<float>& w) {
+template <class T>
+void write_shape_at(const std::string& dir, const gv::point_weights<T>& w) {
   auto m = w.to_sparse_matrix();
   m.makeCompressed();
   std::vector<std::int64_t> indptr(std::size_t(m.rows()) + 1);
   for (std::size_t r = 0; r < indptr.size(); ++r) indptr[r] = m.outerIndexPtr()[r];
   std::vector<std::int32_t> indices(m.innerIndexPtr(), m.innerIndexPtr() + m.nonZeros());
-  std::vector<float> data(m.valuePtr(), m.valuePtr() + m.nonZeros());
+  std::vector<T> data(m.valuePtr(), m.valuePtr() + m.nonZeros());
   gio::write_npy(dir + "/weights_at_indptr.npy", indptr);
   gio::write_npy(dir + "/weights_at_indices.npy", indices);
   gio::write_npy(dir + "/weights_at_data.npy", data);
@@ -119,10 +123,24 @@ void write_shape_at(const std::string& dir, const gv::point_weights<float>& w) {
   bool ok = std::fputs("point,node,weight\n", f) >= 0;
   for (std::size_t r = 0; ok && r + 1 < indptr.size(); ++r)
     for (auto e = indptr[r]; ok && e < indptr[r + 1]; ++e)
-      ok = std::fprintf(f, "%zu,%d,%.9g\n", r, int(indices[std::size_t(e)]), double(data[std::size_t(e)])) > 0;
+      if constexpr (std::is_same_v<T, float>)  // enough digits to read the value back exactly
+        ok = std::fprintf(f, "%zu,%d,%.9g\n", r, int(indices[std::size_t(e)]), double(data[std::size_t(e)])) > 0;
+      else
+        ok = std::fprintf(f, "%zu,%d,%.17g\n", r, int(indices[std::size_t(e)]), double(data[std::size_t(e)])) > 0;
   ok = std::fclose(f) == 0 && ok;
   if (!ok) throw std::runtime_error(path + ": write failed");
 }
+
+template void write_voronoi(const output_dir&, const gv::diagram<float, 3>&, const gv::image<float, 3>&,
+                            const picture_context&);
+template void write_voronoi(const output_dir&, const gv::diagram<double, 3>&, const gv::image<double, 3>&,
+                            const picture_context&);
+template void write_shape(const std::string&, const gv::shape_weights<float, 3>&, const gv::diagram<float, 3>&, int,
+                          const picture_context&, const std::string&);
+template void write_shape(const std::string&, const gv::shape_weights<double, 3>&, const gv::diagram<double, 3>&, int,
+                          const picture_context&, const std::string&);
+template void write_shape_at(const std::string&, const gv::point_weights<float>&);
+template void write_shape_at(const std::string&, const gv::point_weights<double>&);
 
 void summary(const char* what, const gv::grid<3>& g, std::size_t seeds, const std::string& backend, double seconds,
              const std::string& out) {

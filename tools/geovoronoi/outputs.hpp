@@ -36,20 +36,25 @@ struct picture_context {
   }
 };
 
-/// distance.mhd, label.mhd, labels.png, distance.png, voronoi.vti
-void write_voronoi(const output_dir& out, const gv::diagram<float, 3>& d, const gv::image<float, 3>& field,
+/// distance.mhd, label.mhd, labels.png, distance.png, voronoi.vti. The distance (and the stiffness in
+/// voronoi.vti) in T: MET_FLOAT / Float32, or MET_DOUBLE / Float64 with `--precision double`.
+template <class T>
+void write_voronoi(const output_dir& out, const gv::diagram<T, 3>& d, const gv::image<T, 3>& field,
                    const picture_context& pc);
 
 /// In the folder @p dir: indices.mhd, weights.mhd (K interleaved channels: ITK, ParaView, Slicer),
 /// indices_sofa_planar.mhd, weights_sofa_planar.mhd (K planar channels, SOFA's layout), weights.vti
 /// (K-component weights and nodes arrays), weights_*.npy (CSR), weight_node<png_node>.png (titled
-/// "@p method SHAPE FUNCTION"; voxels without any weight drawn as outside).
-/// Writes the weights at chosen points (shape-functions --at) into @p dir: weights_at_indptr/indices/
-/// data.npy (points x nodes CSR) and weights_at.csv (point,node,weight).
-void write_shape_at(const std::string& dir, const gv::point_weights<float>& w);
+/// "@p method SHAPE FUNCTION"; voxels without any weight drawn as outside). Weights in T (float, or
+/// double with `--precision double`).
+template <class T>
+void write_shape(const std::string& dir, const gv::shape_weights<T, 3>& w, const gv::diagram<T, 3>& d, int png_node,
+                 const picture_context& pc, const std::string& method);
 
-void write_shape(const std::string& dir, const gv::shape_weights<float, 3>& w, const gv::diagram<float, 3>& d,
-                 int png_node, const picture_context& pc, const std::string& method);
+/// Writes the weights at chosen points (shape-functions --at) into @p dir: weights_at_indptr/indices/
+/// data.npy (points x nodes CSR; data in T) and weights_at.csv (point,node,weight).
+template <class T>
+void write_shape_at(const std::string& dir, const gv::point_weights<T>& w);
 
 /// The one summary line a command prints at the end.
 void summary(const char* what, const gv::grid<3>& g, std::size_t seeds, const std::string& backend, double seconds,

@@ -1,9 +1,10 @@
 #pragma once
 // The solving part of the geovoronoi command-line tool, written once for every backend.
 //
-// A problem is described by plain host data (problem_spec: the field image, the seeds, the metric's
-// name and the connectivity); solve_voronoi() / solve_shape() turn the names into the library's
-// policy types and call it with the given backend policy. Each backend instantiates them in its own
+// A problem is described by plain host data (problem_spec<T>: the field image in the distance type
+// T, float or double, the seeds, the metric's name and the connectivity); solve_voronoi() /
+// solve_shape() turn the names into the library's policy types and call it with the given backend
+// policy. Each backend instantiates them in its own
 // translation unit (backend_seq.cpp, backend_thrust.cpp, cuda.cu compiled by nvcc) and exposes the
 // plain functions declared at the end of this file, which backends.cpp puts in the backend table;
 // so no other file includes a backend header, and only cuda.cu needs nvcc.
@@ -13,6 +14,7 @@
 
 #include "usage_error.hpp"
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,35 +41,45 @@ void with_connectivity(int n, F&& f) {
   throw usage_error("connectivity must be 6, 18 or 26, got " + std::to_string(n));
 }
 
-/// One problem as plain host data; the referenced field and seeds outlive every solve that uses it.
+/// One problem as plain host data, in the distance type T (float or double, `--precision`); the
+/// referenced field and seeds outlive every solve that uses it.
+template <class T>
 struct problem_spec {
-  const gv::image<float, 3>& field;
+  const gv::image<T, 3>& field;
   const std::vector<gv::coord<3>>& seeds;
   std::string metric = "min_stiffness";
   int connectivity = 26;
+  /// Host threads of the thrust backend (solve_options::threads, shape_options::threads); 0: default.
+  unsigned threads = 0;
+  /// The diagram's progress (solve_options::progress); may be empty.
+  std::function<bool(double)> progress = nullptr;
 };
 
 /// Calls f(problem) with the library's problem object for @p s.
-template <class F>
-void with_problem(const problem_spec& s, F&& f) {
+template <class T, class F>
+void with_problem(const problem_spec<T>& s, F&& f) {
   with_metric(s.metric, [&](auto metric) {
     with_connectivity(s.connectivity, [&](auto conn) { f(gv::make_problem(s.field.geometry(), s.field, metric, conn)); });
   });
 }
 
 /// The Voronoi diagram of @p s on the backend @p policy.
-template <class Policy>
-gv::diagram<float, 3> solve_voronoi(const Policy& policy, const problem_spec& s) {
-  gv::diagram<float, 3> d;
-  with_problem(s, [&](const auto& p) { d = gv::voronoi(policy, p, s.seeds); });
+template <class Policy, class T>
+gv::diagram<T, 3> solve_voronoi(const Policy& policy, const problem_spec<T>& s) {
+  gv::diagram<T, 3> d;
+  gv::solve_options opt;
+  opt.threads = s.threads;
+  opt.progress = s.progress;
+  with_problem(s, [&](const auto& p) { d = gv::voronoi(policy, p, s.seeds, opt); });
   return d;
 }
 
 /// The shape functions of @p s on the backend @p policy, given its diagram @p d.
-template <class Policy>
-gv::shape_weights<float, 3> solve_shape(const Policy& policy, const problem_spec& s, const gv::diagram<float, 3>& d,
-                                        const gv::shape_options& opt) {
-  gv::shape_weights<float, 3> w;
+template <class Policy, class T>
+gv::shape_weights<T, 3> solve_shape(const Policy& policy, const problem_spec<T>& s, const gv::diagram<T, 3>& d,
+                                    gv::shape_options opt) {
+  gv::shape_weights<T, 3> w;
+  opt.threads = s.threads;
   with_problem(s, [&](const auto& p) { w = gv::shape_functions(policy, p, d, opt); });
   return w;
 }
@@ -80,10 +92,11 @@ struct point_spec {
 };
 
 /// The shape functions of @p s at the points @p at on the backend @p policy, given its diagram @p d.
-template <class Policy>
-gv::point_weights<float> solve_shape_at(const Policy& policy, const problem_spec& s, const gv::diagram<float, 3>& d,
-                                        const point_spec& at, const gv::shape_options& opt) {
-  gv::point_weights<float> w;
+template <class Policy, class T>
+gv::point_weights<T> solve_shape_at(const Policy& policy, const problem_spec<T>& s, const gv::diagram<T, 3>& d,
+                                    const point_spec& at, gv::shape_options opt) {
+  gv::point_weights<T> w;
+  opt.threads = s.threads;
   with_problem(s, [&](const auto& p) {
     w = at.world ? gv::shape_functions_at(policy, p, d, at.world_points, opt)
                  : gv::shape_functions_at(policy, p, d, at.voxels, opt);
@@ -91,26 +104,47 @@ gv::point_weights<float> solve_shape_at(const Policy& policy, const problem_spec
   return w;
 }
 
-// ---- each backend's entry points (backend_seq.cpp, backend_thrust.cpp, cuda.cu) ----------------
-// Defined only when that backend is built (see backends.cpp, the table that uses them).
+/// One backend's entry points for one distance type (the backend table holds one set per type).
+template <class T>
+struct solver_fns {
+  gv::diagram<T, 3> (*voronoi)(const problem_spec<T>&) = nullptr;
+  gv::shape_weights<T, 3> (*shape)(const problem_spec<T>&, const gv::diagram<T, 3>&, const gv::shape_options&) = nullptr;
+  gv::point_weights<T> (*shape_at)(const problem_spec<T>&, const gv::diagram<T, 3>&, const point_spec&,
+                                   const gv::shape_options&) = nullptr;
+};
 
-gv::diagram<float, 3> seq_voronoi(const problem_spec& s);
-gv::shape_weights<float, 3> seq_shape(const problem_spec& s, const gv::diagram<float, 3>& d,
-                                      const gv::shape_options& opt);
-gv::point_weights<float> seq_shape_at(const problem_spec& s, const gv::diagram<float, 3>& d, const point_spec& at,
-                                const gv::shape_options& opt);
-gv::diagram<float, 3> thrust_voronoi(const problem_spec& s);
-gv::shape_weights<float, 3> thrust_shape(const problem_spec& s, const gv::diagram<float, 3>& d,
-                                         const gv::shape_options& opt);
-gv::point_weights<float> thrust_shape_at(const problem_spec& s, const gv::diagram<float, 3>& d, const point_spec& at,
-                                   const gv::shape_options& opt);
+// ---- each backend's entry points (backend_seq.cpp, backend_thrust.cpp, cuda.cu) ----------------
+// Defined (and instantiated for float and double) only when that backend is built (see backends.cpp,
+// the table that uses them).
+
+template <class T>
+gv::diagram<T, 3> seq_voronoi(const problem_spec<T>& s);
+template <class T>
+gv::shape_weights<T, 3> seq_shape(const problem_spec<T>& s, const gv::diagram<T, 3>& d, const gv::shape_options& opt);
+template <class T>
+gv::point_weights<T> seq_shape_at(const problem_spec<T>& s, const gv::diagram<T, 3>& d, const point_spec& at,
+                                  const gv::shape_options& opt);
+template <class T>
+gv::diagram<T, 3> thrust_voronoi(const problem_spec<T>& s);
+template <class T>
+gv::shape_weights<T, 3> thrust_shape(const problem_spec<T>& s, const gv::diagram<T, 3>& d,
+                                     const gv::shape_options& opt);
+template <class T>
+gv::point_weights<T> thrust_shape_at(const problem_spec<T>& s, const gv::diagram<T, 3>& d, const point_spec& at,
+                                     const gv::shape_options& opt);
 /// Whether a CUDA device can be used: an empty string when it can (then @p device holds its name),
 /// else why not (no device, no driver, ...). Never throws.
 std::string cuda_unavailable_reason(std::string* device = nullptr);
-gv::diagram<float, 3> cuda_voronoi(const problem_spec& s);
-gv::shape_weights<float, 3> cuda_shape(const problem_spec& s, const gv::diagram<float, 3>& d,
-                                       const gv::shape_options& opt);
-gv::point_weights<float> cuda_shape_at(const problem_spec& s, const gv::diagram<float, 3>& d, const point_spec& at,
-                                 const gv::shape_options& opt);
+template <class T>
+gv::diagram<T, 3> cuda_voronoi(const problem_spec<T>& s);
+template <class T>
+gv::shape_weights<T, 3> cuda_shape(const problem_spec<T>& s, const gv::diagram<T, 3>& d, const gv::shape_options& opt);
+template <class T>
+gv::point_weights<T> cuda_shape_at(const problem_spec<T>& s, const gv::diagram<T, 3>& d, const point_spec& at,
+                                   const gv::shape_options& opt);
+
+/// The three entry points of backend @p prefix (seq, thrust, cuda) for type T, for the table.
+#define GEOVORONOI_CLI_FNS(prefix, T) \
+  ::gvcli::solver_fns<T> { prefix##_voronoi<T>, prefix##_shape<T>, prefix##_shape_at<T> }
 
 }  // namespace gvcli

@@ -84,11 +84,13 @@ struct seq_t {
 };
 
 /// Dense multi-source solve (backend hook; call geovoronoi::voronoi or geovoronoi::geodesic_solve).
+/// Reports progress through @p ctl (solve_options::progress); one thread whatever ctl.threads says.
 template <class P>
 diagram<typename P::value_type, P::dim> backend_solve(seq_t, const P& p,
                                                       const std::vector<source<typename P::value_type>>& sources,
-                                                      typename P::value_type radius) {
-  return detail::seq::solve(p, sources, radius);
+                                                      typename P::value_type radius,
+                                                      const detail::solve_control& ctl = {}) {
+  return detail::seq::solve(p, sources, radius, ctl);
 }
 
 /// Bounded (sparse) multi-source solve (backend hook; call geovoronoi::bounded_solve): scratch
@@ -96,9 +98,10 @@ diagram<typename P::value_type, P::dim> backend_solve(seq_t, const P& p,
 template <class P>
 sparse_solution<typename P::value_type> backend_bounded(seq_t policy, const P& p,
                                                         const std::vector<source<typename P::value_type>>& sources,
-                                                        typename P::value_type radius) {
+                                                        typename P::value_type radius,
+                                                        const detail::solve_control& ctl = {}) {
   return policy.with_scratch<typename P::value_type>(
-      [&](auto& s) { return detail::seq::bounded(p, s, sources, radius); });
+      [&](auto& s) { return detail::seq::bounded(p, s, sources, radius, ctl); });
 }
 
 /// Insert-query for a batch of queries (backend hook; call geovoronoi::insert_queries), one after the

@@ -141,10 +141,17 @@ struct volume {
 
 namespace detail {
 /// Whether @p s converts to the arithmetic type D without undefined behaviour or wrapping: finite
-/// and within D's range (after truncation toward zero) for an integer D; always for a float D.
+/// and within D's range (after truncation toward zero) for an integer D; for a floating D narrower
+/// than a floating S, a finite non-zero value must stay finite and non-zero (a double 1e300 read as
+/// float would become an infinitely stiff voxel, 1e-50 a masked one); always otherwise.
 template <class D, class S>
 bool representable(S s) noexcept {
   if constexpr (std::is_floating_point_v<D>) {
+    if constexpr (std::is_floating_point_v<S> && (sizeof(D) < sizeof(S))) {
+      if (!(s == s) || s == S(0) || std::isinf(s)) return true;
+      const S a = s < S(0) ? -s : s;
+      return a <= S(std::numeric_limits<D>::max()) && static_cast<D>(a) != D(0);
+    }
     return true;
   } else if constexpr (std::is_floating_point_v<S>) {
     if (!(s == s)) return false;
@@ -183,6 +190,10 @@ std::string unrepresentable(S s, std::size_t i) {
     std::snprintf(buf, sizeof buf, "%.17g", static_cast<double>(s));
     value = s != s ? "NaN" : std::isinf(s) ? (s > 0 ? "+inf" : "-inf") : buf;
     why = s != s || std::isinf(s) ? "not a finite number" : "out of range";
+    if constexpr (std::is_floating_point_v<D>)
+      return "element " + std::to_string(i) + " is " + value + ", which " + type_name<D>() + " cannot hold (" +
+             (s > S(1) || s < S(-1) ? "beyond its range: it would become infinite" : "too small: it would become 0") +
+             "); read it as float64 (double)";
   } else {
     value = std::to_string(s);
     why = "out of range";

@@ -72,7 +72,7 @@ int run(const std::vector<std::string>& args) {
   const arguments a(args, {"--out", "--backend", "--threads"}, {});
   const std::string dir = a.get("--out", "demo-out");
   const backend& solver = pick_backend(a);
-  use_threads(a);
+  const unsigned threads = use_threads(a);
   const std::string backend_name = solver.name;
   progress_bar bar("geovoronoi demo");
   bar.update("phantom");
@@ -95,15 +95,15 @@ int run(const std::vector<std::string>& args) {
               (long long)g.extent(0), (long long)g.extent(1), (long long)g.extent(2), (long long)gh.extent(0),
               (long long)gh.extent(1), (long long)gh.extent(2), seeds.size(), backend_name.c_str());
   std::fflush(stdout);
-  const problem_spec p{field, seeds, "min_stiffness", 26};
+  const problem_spec<float> p{field, seeds, "min_stiffness", 26, threads};
   const picture_context pc{"min_stiffness", "MM", 26}, pcu{"uniform", "MM", 26};
   bar.update("voronoi");
   auto t0 = bar.seconds();
-  const auto d = solver.voronoi(p);
+  const auto d = solver.in_float.voronoi(p);
   std::printf("  voronoi          %7.2f s\n", bar.seconds() - t0);
   write_voronoi(out, d, field, pc);
   // the same seeds under the uniform metric, to show what the stiffness changes
-  const auto du = solver.voronoi({field, seeds, "uniform", 26});
+  const auto du = solver.in_float.voronoi({field, seeds, "uniform", 26, threads});
   gio::write_png(out.file("labels_uniform.png"),
                  gio::label_picture(du.label, du.seeds, &field, pcu.options("VORONOI CELLS")));
   // side by side: the XY mid-slice under the uniform metric (left) and under min_stiffness (right),
@@ -117,14 +117,14 @@ int run(const std::vector<std::string>& args) {
   gio::write_png(out.file("labels_compare.png"),
                  gio::hstack(gio::label_picture(du.label, du.seeds, &field, left),
                              gio::label_picture(d.label, d.seeds, &field, right), gio::picture_background));
-  auto shape = [&](const problem_spec& prob, const gv::diagram<float, 3>& diag, gv::shape_method method) {
+  auto shape = [&](const problem_spec<float>& prob, const gv::diagram<float, 3>& diag, gv::shape_method method) {
     bar.update(method_name(method), 0.0);
     t0 = bar.seconds();
     gv::shape_options opt;
     opt.method = method;
     opt.max_nodes_per_voxel = 4;
     opt.progress = [&](double x) { bar.set_fraction(x); return true; };
-    const auto w = solver.shape(prob, diag, opt);
+    const auto w = solver.in_float.shape(prob, diag, opt);
     std::printf("  %-16s %7.2f s (%lld voxels)\n", method_name(method), bar.seconds() - t0,
                 (long long)prob.field.geometry().size());
     std::fflush(stdout);
@@ -139,8 +139,8 @@ int run(const std::vector<std::string>& args) {
     }
   };
   shape(p, d, gv::shape_method::distance_ratio);
-  const problem_spec ph{field_h, seeds_h, "min_stiffness", 26};
-  shape(ph, solver.voronoi(ph), gv::shape_method::sibson);
+  const problem_spec<float> ph{field_h, seeds_h, "min_stiffness", 26, threads};
+  shape(ph, solver.in_float.voronoi(ph), gv::shape_method::sibson);
   bar.update("writing");
   out.commit();
   bar.finish();

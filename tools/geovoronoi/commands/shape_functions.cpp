@@ -5,6 +5,7 @@
 #include "../seed_file.hpp"
 
 #include <cmath>
+#include <type_traits>
 
 namespace gvcli {
 
@@ -65,31 +66,33 @@ int run(const std::vector<std::string>& args) {
   point_spec at;
   // checked before any work: the node must exist, the points must parse and lie in the grid
   auto check = [&](const job& j) {
-    if (!at_path.empty()) at.voxels = read_points(at_path, a.has("--world"), j.field.geometry());
+    if (!at_path.empty()) at.voxels = read_points(at_path, a.has("--world"), j.geometry());
     if (std::size_t(picture_node) >= j.seeds.size())
       throw usage_error("--picture-node " + std::to_string(picture_node) + ": must be less than the number of nodes (" +
                         std::to_string(j.seeds.size()) + ")");
   };
-  return solve_and_write("shape-functions", a, check,
-                         [&](const job& j, const gv::diagram<float, 3>& d, output_dir& out, progress_bar& bar) {
-                           bar.update(method_name(method), 0.0);
-                           gv::shape_options opt;
-                           opt.method = method;
-                           opt.max_nodes_per_voxel = k;
-                           opt.progress = [&](double f) {
-                             bar.set_fraction(f);
-                             return true;
-                           };
-                           if (!at.voxels.empty()) {  // only the chosen points' rows
-                             const auto w = j.solver->shape_at(j.spec(), d, at, opt);
-                             bar.update("writing");
-                             write_shape_at(out.subdir("."), w);
-                             return;
-                           }
-                           const auto w = j.solver->shape(j.spec(), d, opt);
-                           bar.update("writing");
-                           write_shape(out.subdir("."), w, d, picture_node, j.pictures(), method_name(method));
-                         });
+  auto more = [&](const job& j, const auto& d, output_dir& out, progress_bar& bar) {
+    bar.update(method_name(method), 0.0);
+    gv::shape_options opt;
+    opt.method = method;
+    opt.max_nodes_per_voxel = k;
+    opt.progress = [&](double f) {
+      bar.set_fraction(f);
+      return true;
+    };
+    using T = typename std::decay_t<decltype(d.distance)>::value_type;
+    const auto& fns = j.solver->fns<T>();
+    if (!at.voxels.empty()) {  // only the chosen points' rows
+      const auto w = fns.shape_at(j.spec<T>(), d, at, opt);
+      bar.update("writing");
+      write_shape_at(out.subdir("."), w);
+      return;
+    }
+    const auto w = fns.shape(j.spec<T>(), d, opt);
+    bar.update("writing");
+    write_shape(out.subdir("."), w, d, picture_node, j.pictures(), method_name(method));
+  };
+  return solve_and_write("shape-functions", a, check, more, more);
 }
 
 }  // namespace
@@ -110,7 +113,8 @@ const command shape_functions_command = {
     "                      centre); writes the weights_at files below instead of the per-voxel ones\n"
     "  --stiffness FILE, --seeds FILE, --out DIR (required); --metric M (default: min_stiffness),\n"
     "  --connectivity N (default: 26), --backend B (default: the fastest built one that runs here),\n"
-    "  --threads N (default: OMP_NUM_THREADS),\n"
+    "  --threads N (default: OMP_NUM_THREADS), --precision P (default: float; double computes\n"
+    "  and writes the distance and the weights in double),\n"
     "  --world, --extrude N (default: 1), --help\n"
     "\n"
     "writes, in DIR: the files of `geovoronoi voronoi`, and\n"

@@ -8,7 +8,7 @@ namespace {
 
 int run(const std::vector<std::string>& args) {
   const arguments a(args, solve_options(), solve_flags());
-  return solve_and_write("voronoi", a, nullptr, [](auto&&...) {});
+  return solve_and_write("voronoi", a, nullptr, nullptr, nullptr);
 }
 
 }  // namespace
@@ -36,10 +36,14 @@ const command voronoi_command = {
     "  --world             seeds are physical x,y,z coordinates, rounded to the nearest voxel centre\n"
     "                      (default: voxel indices)\n"
     "  --extrude N         repeat a .pgm/.ppm picture into N slices along z (default: 1)\n"
+    "  --precision P       float, double or auto: the type distances (and weights) are computed and\n"
+    "                      written in; auto takes double only when the field could overflow float or\n"
+    "                      holds a value float cannot (default: float)\n"
     "  --help              this text\n"
     "\n"
     "writes, in DIR:\n"
-    "  distance.mhd/.raw   geodesic distance to the nearest seed (float; +inf outside or unreachable)\n"
+    "  distance.mhd/.raw   geodesic distance to the nearest seed (float, or double with --precision\n"
+    "                      double; +inf outside or unreachable)\n"
     "  label.mhd/.raw      0-based index of the nearest seed (int32; -1 outside or unreachable)\n"
     "  labels.png          the cells on the three mid-slices\n"
     "  distance.png        the distance on the three mid-slices\n"

@@ -12,6 +12,8 @@
 #include <geovoronoi/metric.hpp>
 #include <geovoronoi/result.hpp>
 
+#include <algorithm>
+#include <limits>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -89,14 +91,27 @@ auto set_slot_key(N& node, const K& key) noexcept -> decltype(node.set_key(key))
                      "; weights must be >= 0 and not NaN");
 }
 
+/// What a run reports besides its result, for the solves that watch (see solve_monitor): the run
+/// calls overflow() when it rejects a candidate whose distance is +inf (detail/overflow.hpp) and,
+/// when `watching`, tick(settled) every tick_mask + 1 settled voxels. The default watches nothing
+/// and compiles away.
+struct no_monitor {
+  static constexpr bool watching = false;
+  void overflow() noexcept {}
+  void tick(std::size_t) {}
+};
+
+/// Voxels settled between two progress reports of a watched run (a power of two).
+inline constexpr std::size_t tick_mask = 4095;
+
 /**
  * Runs Dijkstra from the keys already in the heap until it is empty. Heap is a monotone priority
  * queue of (key, voxel) items (radix_heap; the benchmarks also plug in binary heaps to compare).
  * accept(u, nd) filters relaxations (radius bounds, insert-query pruning): a rejected candidate is
  * neither stored nor queued. Returns the number of voxels settled.
  */
-template <class P, class State, class Heap, class Accept>
-std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept) {
+template <class P, class State, class Heap, class Accept, class Monitor = no_monitor>
+std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept, Monitor&& mon = Monitor{}) {
   using T = typename P::value_type;
   using kt = key_traits<T>;
   const stencil_walker<P::dim> walk(p);
@@ -105,6 +120,8 @@ std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept) {
     const auto it = heap.pop();
     if (it.key != st.get(it.voxel)) continue;  // stale entry: a smaller key was queued later
     ++settled;
+    if constexpr (std::decay_t<Monitor>::watching)
+      if ((settled & tick_mask) == 0) mon.tick(settled);
     const index_t v = it.voxel;
     if constexpr (has_peek<Heap>::value)
       if (const auto* nx = heap.peek_ready()) st.prefetch(nx->voxel, p.edges);
@@ -122,7 +139,11 @@ std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept) {
       const T w = p.metric(p.edges.length[k], fv, fu);
       if (!(w >= T(0))) bad_weight(double(w));
       const T nd = dv + w;
-      if (!accept(u, nd)) return;
+      if (!accept(u, nd)) {
+        // the unbounded solves reject nothing else: no cost on their hot path
+        if (!(nd <= std::numeric_limits<T>::max())) mon.overflow();
+        return;
+      }
       const auto nk = kt::make(nd, l);
       if (nk < ku) {
         set_slot_key(slot, nk);
@@ -133,12 +154,33 @@ std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept) {
   return settled;
 }
 
+/// Voxels of the domain (the denominator of the solves' progress).
+template <class P>
+index_t count_inside(const P& p) {
+  index_t c = 0;
+  for (index_t v = 0; v < p.geometry.size(); ++v) c += detail::inside<typename P::metric_type>(p.field[v]) ? 1 : 0;
+  return c > 0 ? c : 1;
+}
+
+/// The monitor of the dense and bounded solves: records an overflow, reports progress as settled
+/// voxels over @p total (the domain's voxels, counted only when someone listens).
+struct solve_monitor {
+  static constexpr bool watching = true;
+  const solve_control* control = nullptr;
+  double total = 1;
+  bool overflowed = false;
+  void overflow() noexcept { overflowed = true; }
+  void tick(std::size_t settled) {
+    if (control) control->report(std::min(0.999, double(settled) / total));
+  }
+};
+
 /// Queues the sources below @p radius (the smallest key wins on a shared voxel) and runs the search
 /// bounded by the radius: the common start of the dense and the bounded solves.
-template <class P, class State, class Heap>
+template <class P, class State, class Heap, class Monitor = no_monitor>
 std::size_t run_from_sources(const P& p, State& st, Heap& heap,
                              const std::vector<source<typename P::value_type>>& sources,
-                             typename P::value_type radius) {
+                             typename P::value_type radius, Monitor&& mon = Monitor{}) {
   using T = typename P::value_type;
   using kt = key_traits<T>;
   for (const auto& s : sources)
@@ -149,7 +191,7 @@ std::size_t run_from_sources(const P& p, State& st, Heap& heap,
         heap.push(k, s.voxel);
       }
     }
-  return run(p, st, heap, [radius](index_t, T nd) { return nd < radius; });
+  return run(p, st, heap, [radius](index_t, T nd) { return nd < radius; }, mon);
 }
 
 }  // namespace geovoronoi::detail::dijkstra

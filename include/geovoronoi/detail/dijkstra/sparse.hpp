@@ -8,10 +8,12 @@
 #include <geovoronoi/detail/paged_scratch.hpp>
 #include <geovoronoi/detail/radix_heap.hpp>
 #include <geovoronoi/detail/dijkstra/engine.hpp>
+#include <geovoronoi/detail/overflow.hpp>
 #include <geovoronoi/result.hpp>
 
 #include <algorithm>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace geovoronoi::detail::dijkstra {
@@ -101,16 +103,26 @@ struct sparse_scratch {
   radix_heap<T> heap;
 };
 
-/// Bounded multi-source solve: the voxels with distance < @p radius, sorted by voxel.
+/// Bounded multi-source solve: the voxels with distance < @p radius, sorted by voxel. A search that is
+/// interrupted (cancelled, an overflow, an exception) leaves @p st and @p heap ready for the next one.
 template <class P, class Keys, class Heap>
 sparse_solution<typename P::value_type> bounded(const P& p, Keys& st, Heap& heap,
                                                 const std::vector<source<typename P::value_type>>& sources,
-                                                typename P::value_type radius) {
+                                                typename P::value_type radius, const solve_control& ctl = {}) {
   using T = typename P::value_type;
   using kt = key_traits<T>;
   st.begin_bounded(p.field, p.geometry.size(), radius);
   heap.clear();
-  const std::size_t reached = run_from_sources(p, st, heap, sources, radius);  // each reached voxel settles once
+  solve_monitor mon{&ctl, ctl.reporting() ? double(count_inside(p)) : 1.0};
+  std::size_t reached = 0;
+  try {
+    ctl.report(0.0);
+    reached = run_from_sources(p, st, heap, sources, radius, mon);  // each reached voxel settles once
+  } catch (...) {
+    st.drain_sorted([](index_t, const typename kt::key_type&) {});
+    heap.clear();
+    throw;
+  }
   sparse_solution<T> r;
   r.voxel.reserve(reached);
   r.distance.reserve(reached);
@@ -120,6 +132,9 @@ sparse_solution<typename P::value_type> bounded(const P& p, Keys& st, Heap& heap
     r.distance.push_back(kt::distance(k));
     r.label.push_back(kt::label(k));
   });
+  if (mon.overflowed && !(radius <= std::numeric_limits<T>::max()))
+    throw_if_overflowed_sparse(p, r.voxel.data(), r.distance.data(), r.size());
+  ctl.report(1.0);
   return r;
 }
 

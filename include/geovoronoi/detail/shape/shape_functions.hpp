@@ -88,20 +88,23 @@ shape_weights<typename P::value_type, P::dim> shape_functions(const Policy& poli
   const std::size_t slots = std::size_t(problem.geometry.size()) * std::size_t(w.k);
   w.node.assign(slots, no_label);
   w.weight.assign(slots, T(0));
-  switch (opt.method) {
-    case shape_method::distance_ratio:
-      detail::shape::distance_ratio(policy, problem, d, opt, w);
-      break;
-    case shape_method::sibson:
-      detail::shape::natural_neighbours(policy, problem, d, opt, false, w);
-      break;
-    case shape_method::laplace:
-      detail::shape::natural_neighbours(policy, problem, d, opt, true, w);
-      break;
-    default:
-      throw std::invalid_argument("geovoronoi::shape_functions: unknown shape_method " +
-                                  std::to_string(static_cast<int>(opt.method)));
-  }
+  detail::with_threads(policy, opt.threads, [&] {
+    switch (opt.method) {
+      case shape_method::distance_ratio:
+        detail::shape::distance_ratio(policy, problem, d, opt, w);
+        break;
+      case shape_method::sibson:
+        detail::shape::natural_neighbours(policy, problem, d, opt, false, w);
+        break;
+      case shape_method::laplace:
+        detail::shape::natural_neighbours(policy, problem, d, opt, true, w);
+        break;
+      default:
+        throw std::invalid_argument("geovoronoi::shape_functions: unknown shape_method " +
+                                    std::to_string(static_cast<int>(opt.method)));
+    }
+    return 0;
+  });
   return w;
 }
 
@@ -144,9 +147,12 @@ point_weights<typename P::value_type> shape_functions_at(const Policy& policy, c
     }
     case shape_method::sibson:
     case shape_method::laplace:
-      detail::shape::natural_neighbour_rows(policy, problem, d, opt, opt.method == shape_method::laplace,
-                                            w.voxel.data(), points.size(), w.k, w.nodes, w.node.data(),
-                                            w.weight.data());
+      detail::with_threads(policy, opt.threads, [&] {
+        detail::shape::natural_neighbour_rows(policy, problem, d, opt, opt.method == shape_method::laplace,
+                                              w.voxel.data(), points.size(), w.k, w.nodes, w.node.data(),
+                                              w.weight.data());
+        return 0;
+      });
       break;
     default:
       throw std::invalid_argument("geovoronoi::shape_functions_at: unknown shape_method " +

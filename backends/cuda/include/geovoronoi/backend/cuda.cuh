@@ -25,6 +25,7 @@
 #include <geovoronoi/backend/cuda/detail/repair.cuh>
 #include <geovoronoi/backend/cuda/detail/solve.cuh>
 #include <geovoronoi/backend/cuda/detail/tiling.hpp>
+#include <geovoronoi/detail/overflow.hpp>
 #include <geovoronoi/policy.hpp>
 #include <geovoronoi/result.hpp>
 
@@ -57,7 +58,9 @@ inline constexpr par_t par{};
 
 /**
  * @brief Dense multi-source solve (backend hook; call geovoronoi::voronoi or geodesic_solve).
- * @throws cuda_error on any CUDA failure, metric_error on a negative or NaN edge weight.
+ * @throws cuda_error on any CUDA failure, metric_error on a negative or NaN edge weight,
+ *         overflow_error when an unbounded solve's distances overflow T (found like seq's). It reports
+ *         progress only at the start and the end (the dispatch layer does), and cannot be cancelled.
  */
 template <class P>
 diagram<detail::T_of<P>, P::dim> backend_solve(par_t policy, const P& p,
@@ -67,10 +70,12 @@ diagram<detail::T_of<P>, P::dim> backend_solve(par_t policy, const P& p,
   diagram<T, P::dim> d;
   d.distance = image<T, P::dim>(p.geometry, std::numeric_limits<T>::infinity());
   d.label = image<label_t, P::dim>(p.geometry, no_label);
-  detail::solve_each_reached(p, sources, radius, policy.stream, [&](index_t v, T dist, label_t l) {
+  const bool overflowed = detail::solve_each_reached(p, sources, radius, policy.stream, [&](index_t v, T dist, label_t l) {
     d.distance[v] = dist;
     d.label[v] = l;
   });
+  if (overflowed && !(radius <= std::numeric_limits<T>::max()))
+    geovoronoi::detail::throw_if_overflowed_dense(p, d.distance.data());
   return d;
 }
 
@@ -86,11 +91,13 @@ sparse_solution<detail::T_of<P>> backend_bounded(par_t policy, const P& p,
                                                  detail::T_of<P> radius) {
   using T = detail::T_of<P>;
   sparse_solution<T> r;
-  detail::solve_each_reached(p, sources, radius, policy.stream, [&](index_t v, T dist, label_t l) {
+  const bool overflowed = detail::solve_each_reached(p, sources, radius, policy.stream, [&](index_t v, T dist, label_t l) {
     r.voxel.push_back(v);
     r.distance.push_back(dist);
     r.label.push_back(l);
   });
+  if (overflowed && !(radius <= std::numeric_limits<T>::max()))
+    geovoronoi::detail::throw_if_overflowed_sparse(p, r.voxel.data(), r.distance.data(), r.size());
   return r;
 }
 

@@ -32,6 +32,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace geovoronoi {
@@ -132,13 +133,14 @@ auto counted(const Pol& pol, F&& f) {
 
 /// Dense multi-source solve (backend hook; call geovoronoi::voronoi or geovoronoi::geodesic_solve),
 /// for par and par_on(...). Labels are exact (tie rule) after a targeted repair pass; see
-/// detail/repair.hpp.
+/// detail/repair.hpp. Reports progress through @p ctl once per expansion round.
 template <class Pol, class P, detail::if_policy<Pol> = 0>
 diagram<typename P::value_type, P::dim> backend_solve(const Pol& pol, const P& p,
                                                       const std::vector<source<typename P::value_type>>& s,
-                                                      typename P::value_type radius) {
+                                                      typename P::value_type radius,
+                                                      const geovoronoi::detail::solve_control& ctl = {}) {
   return detail::counted(pol, [&](const auto& exec, index_t target, detail::engine_counts& c) {
-    return detail::solve(exec, p, s, radius, target, c);
+    return detail::solve(exec, p, s, radius, target, c, ctl);
   });
 }
 
@@ -147,9 +149,10 @@ diagram<typename P::value_type, P::dim> backend_solve(const Pol& pol, const P& p
 template <class Pol, class P, detail::if_policy<Pol> = 0>
 sparse_solution<typename P::value_type> backend_bounded(const Pol& pol, const P& p,
                                                         const std::vector<source<typename P::value_type>>& s,
-                                                        typename P::value_type radius) {
+                                                        typename P::value_type radius,
+                                                        const geovoronoi::detail::solve_control& ctl = {}) {
   return detail::counted(pol, [&](const auto& exec, index_t target, detail::engine_counts& c) {
-    return detail::bounded(exec, p, s, radius, target, c);
+    return detail::bounded(exec, p, s, radius, target, c, ctl);
   });
 }
 
@@ -178,6 +181,17 @@ query_cells<typename P::value_type> backend_insert_queries(const Pol& pol, const
 template <class Pol, class F, detail::if_policy<Pol> = 0>
 void backend_host_parallel_for(const Pol& pol, index_t n, F&& f) {
   detail::host_parallel_for(detail::exec_of(pol), n, f);
+}
+
+/**
+ * @brief Runs f() with @p threads host threads (backend hook behind solve_options::threads and
+ *        shape_options::threads): on the OpenMP system, and for the host loops of the CUDA system
+ *        when compiled with OpenMP, the calling thread's OpenMP thread count for the call; on the TBB
+ *        system a task arena of that many threads; on the CPP system and on the GPU nothing changes.
+ */
+template <class Pol, class F, detail::if_policy<Pol> = 0>
+decltype(auto) backend_with_threads(const Pol& pol, unsigned threads, F&& f) {
+  return detail::with_host_threads(detail::exec_of(pol), threads, std::forward<F>(f));
 }
 
 /// Whether the shape functions may run insert-queries as fused host searches on this policy: on

@@ -6,6 +6,7 @@
 #include <geovoronoi/detail/dijkstra/engine.hpp>
 #include <geovoronoi/detail/dijkstra/sparse.hpp>
 #include <geovoronoi/detail/key.hpp>
+#include <geovoronoi/detail/overflow.hpp>
 #include <geovoronoi/detail/radix_heap.hpp>
 #include <geovoronoi/image.hpp>
 #include <geovoronoi/result.hpp>
@@ -15,10 +16,11 @@
 
 namespace geovoronoi::detail::seq {
 
-/// Dense multi-source solve below @p radius: distance and label images.
+/// Dense multi-source solve below @p radius: distance and label images. Reports progress and detects
+/// overflow as @p ctl and detail/overflow.hpp say.
 template <class P>
 diagram<typename P::value_type, P::dim> solve(const P& p, const std::vector<source<typename P::value_type>>& sources,
-                                              typename P::value_type radius) {
+                                              typename P::value_type radius, const solve_control& ctl = {}) {
   using T = typename P::value_type;
   using kt = key_traits<T>;
   const index_t n = p.geometry.size();
@@ -27,9 +29,11 @@ diagram<typename P::value_type, P::dim> solve(const P& p, const std::vector<sour
     work[v].set_key(kt::unreached);
     work[v].field = p.field[v];
   }
+  dijkstra::solve_monitor mon{&ctl, ctl.reporting() ? double(dijkstra::count_inside(p)) : 1.0};
+  ctl.report(0.0);
   dijkstra::dense_keys<T> st{work.data()};
   radix_heap<T> heap;
-  dijkstra::run_from_sources(p, st, heap, sources, radius);
+  dijkstra::run_from_sources(p, st, heap, sources, radius, mon);
   diagram<T, P::dim> d;
   d.distance = image<T, P::dim>(p.geometry, std::numeric_limits<T>::infinity());
   d.label = image<label_t, P::dim>(p.geometry, no_label);
@@ -40,6 +44,8 @@ diagram<typename P::value_type, P::dim> solve(const P& p, const std::vector<sour
       d.label[v] = kt::label(k);
     }
   }
+  if (mon.overflowed && !(radius <= std::numeric_limits<T>::max())) throw_if_overflowed_dense(p, d.distance.data());
+  ctl.report(1.0);
   return d;
 }
 
@@ -47,8 +53,8 @@ diagram<typename P::value_type, P::dim> solve(const P& p, const std::vector<sour
 template <class P, class Scratch>
 sparse_solution<typename P::value_type> bounded(const P& p, Scratch& scratch,
                                                 const std::vector<source<typename P::value_type>>& sources,
-                                                typename P::value_type radius) {
-  return dijkstra::bounded(p, scratch.keys, scratch.heap, sources, radius);
+                                                typename P::value_type radius, const solve_control& ctl = {}) {
+  return dijkstra::bounded(p, scratch.keys, scratch.heap, sources, radius, ctl);
 }
 
 }  // namespace geovoronoi::detail::seq

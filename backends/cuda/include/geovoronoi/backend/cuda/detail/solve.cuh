@@ -45,6 +45,7 @@ template <class P>
 struct dense_state {
   device_buffer<unsigned long long> words;
   device_buffer<unsigned int> labels;  // double only
+  bool overflowed = false;             // a candidate's sum was +inf (see geovoronoi/detail/overflow.hpp)
 };
 
 /// The dense solve on the device; @p iterations (optional) receives the engine iterations run.
@@ -65,9 +66,11 @@ dense_state<P> solve_dense(const device_problem<P>& dp, const tiling& t,
       else
         seeds.push_back({x.voxel, distance_word(x.distance)});
     }
+  device_buffer<int> overflow(1);
+  overflow.fill_bytes(0, s);
   if constexpr (std::is_same_v<T, float>) {
     // pass 1: (distance, label) keys; pass 2: labels again from the final distances (rule_label)
-    long long it = run_engine(dp.view, rule_voronoi{radius}, t, st.words.data(), seeds, s);
+    long long it = run_engine(dp.view, rule_voronoi{radius, overflow.data()}, t, st.words.data(), seeds, s);
     const index_t n = t.voxels();
     const int blocks = int((n + 255) / 256 < 65535 ? (n + 255) / 256 : 65535);
     clear_labels_kernel<><<<blocks, 256, 0, s>>>(st.words.data(), n);
@@ -75,7 +78,7 @@ dense_state<P> solve_dense(const device_problem<P>& dp, const tiling& t,
     it += run_engine(dp.view, rule_label{}, t, st.words.data(), seeds, s);
     if (iterations) *iterations = it;
   } else {
-    const long long it = run_engine(dp.view, rule_distance<T>{radius}, t, st.words.data(), seeds, s);
+    const long long it = run_engine(dp.view, rule_distance<T>{radius, overflow.data()}, t, st.words.data(), seeds, s);
     if (iterations) *iterations = it;
     st.labels = device_buffer<unsigned int>(std::size_t(t.voxels()));
     st.labels.fill_bytes(0xFF, s);
@@ -84,6 +87,10 @@ dense_state<P> solve_dense(const device_problem<P>& dp, const tiling& t,
       if (x.distance < radius) ls.push_back({x.voxel, distance_word(x.distance), std::uint32_t(x.label)});
     run_label_pass(dp.view, t, st.words.data(), st.labels.data(), ls, s);
   }
+  int flag = 0;
+  overflow.download(&flag, 1, s);
+  sync(s, "overflow flag");
+  st.overflowed = flag != 0;
   return st;
 }
 
@@ -111,13 +118,15 @@ void for_each_reached(const dense_state<P>& st, index_t n, cudaStream_t s, F&& f
 
 /// The dense solve below @p radius, then f(v, distance, label) for every reached voxel in increasing
 /// voxel order: what the dense and the bounded hooks share.
+/// Returns whether the engine saw an infinite sum (the caller scans the result on the host).
 template <class P, class F>
-void solve_each_reached(const P& p, const std::vector<source<T_of<P>>>& sources, T_of<P> radius, cudaStream_t s,
+bool solve_each_reached(const P& p, const std::vector<source<T_of<P>>>& sources, T_of<P> radius, cudaStream_t s,
                         F&& f) {
   const auto t = tiling_of(p);
   const device_problem<P> dp(p, s);
   const auto st = solve_dense(dp, t, sources, radius, s);
   for_each_reached(st, t.voxels(), s, f);
+  return st.overflowed;
 }
 
 }  // namespace detail

@@ -65,12 +65,26 @@ GEOVORONOI_HOST_DEVICE inline bool in_domain(typename P::value_type f) {
 
 // ---- rules ---------------------------------------------------------------------------------------
 
+/// Whether a sum is beyond the finite range of its type (+inf: an overflow).
+GEOVORONOI_HOST_DEVICE inline bool beyond_range(float x) noexcept { return x > 3.40282347e+38f; }
+GEOVORONOI_HOST_DEVICE inline bool beyond_range(double x) noexcept { return x > 1.7976931348623157e+308; }
+
+/// Records a rejected candidate whose sum is +inf in @p flag (when set): the host then checks the
+/// result for an overflow (geovoronoi/detail/overflow.hpp). A plain store: every writer writes 1.
+template <class T>
+GEOVORONOI_HOST_DEVICE inline void note_overflow(int* flag, T nd) noexcept {
+  if (flag && beyond_range(nd)) *flag = 1;
+}
+
 /// float Voronoi: packed (distance, label) keys; accepts distances below the radius.
 struct rule_voronoi {
   float radius;
+  int* overflow = nullptr;  ///< device flag set when a candidate's sum is +inf (optional)
   GEOVORONOI_HOST_DEVICE uint64_t candidate(uint64_t from, float w, index_t, uint64_t) const {
     const float nd = add_rn(key_distance(from), w);
-    return nd < radius ? pack(nd, key_label(from)) : unreached;
+    if (nd < radius) return pack(nd, key_label(from));
+    note_overflow(overflow, nd);
+    return unreached;
   }
 };
 
@@ -96,9 +110,12 @@ GEOVORONOI_HOST_DEVICE inline uint64_t clear_label(uint64_t key) noexcept {
 template <class T>
 struct rule_distance {
   T radius;
+  int* overflow = nullptr;  ///< as rule_voronoi::overflow
   GEOVORONOI_HOST_DEVICE uint64_t candidate(uint64_t from, T w, index_t, uint64_t) const {
     const T nd = add_rn(word_distance<T>(from), w);
-    return nd < radius ? distance_word(nd) : unreached;
+    if (nd < radius) return distance_word(nd);
+    note_overflow(overflow, nd);
+    return unreached;
   }
 };
 

@@ -18,6 +18,7 @@
 #include <geovoronoi/detail/stencil_walk.hpp>
 #include <geovoronoi/error.hpp>
 #include <geovoronoi/metric.hpp>
+#include <geovoronoi/result.hpp>
 
 #include <thrust/functional.h>
 #include <thrust/transform_reduce.h>
@@ -38,6 +39,7 @@ struct engine_counts {
   std::uint64_t reached = 0;     ///< voxels with a finite distance (filled by the solve, not the engine)
   std::uint64_t suspects = 0;    ///< voxels marked for the label repair
   std::uint64_t relabelled = 0;  ///< voxels whose label the repair recomputed (suspects and their heirs)
+  bool overflowed = false;       ///< a candidate distance was +inf (see geovoronoi/detail/overflow.hpp)
 };
 
 /// Reserve @p k slots of a shared list; returns the first.
@@ -107,6 +109,8 @@ struct expand_fn {
   admission<T> adm;
   Accept accept;
   int* error;
+  int* overflow;  // set when a rejected candidate's distance is +inf
+  T largest;      // the largest finite T
 
   GEOVORONOI_HOST_DEVICE void operator()(index_t j) const {
     index_t stage[top];
@@ -147,7 +151,10 @@ struct expand_fn {
           return;
         }
         const T nd = du + w;
-        if (!accept(v, nd)) return;
+        if (!accept(v, nd)) {
+          if (!(nd <= largest)) raise(overflow);  // the unbounded solves reject nothing else
+          return;
+        }
         if (!cell::lower(keys + v, kt::make(nd, lu))) {
           // u was expanded before with a larger key. If v holds the distance u proposes now but a
           // lower label, that label may have come from u's stale proposal (its sum rounding to the
@@ -365,7 +372,8 @@ bool window_theta(const Exec& exec, const key_cell<T>* keys, const flag_t* flags
  */
 template <class Exec, class P, class Accept>
 engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>* keys, flag_t* flags,
-                  vec<Exec, index_t>& far, index_t far_size, const Accept& accept, index_t target) {
+                  vec<Exec, index_t>& far, index_t far_size, const Accept& accept, index_t target,
+                  const geovoronoi::detail::solve_control& ctl = {}, double total = 1) {
   using T = typename P::value_type;
   constexpr int N = P::neighbours;
   constexpr bool device = is_cuda_policy_v<Exec>;
@@ -377,7 +385,7 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
   target = std::max<index_t>(target, 1);
 
   vec<Exec, index_t> near, next, far2, sizes(2);
-  vec<Exec, int> error(1, 0);
+  vec<Exec, int> error(1, 0), overflow(1, 0);
   std::vector<T> scratch, weights;
   engine_counts counts;
   index_t near_size = 0;
@@ -429,7 +437,8 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
       set_sizes<Exec>(sizes, next_size, far_size);
       parallel_for(exec, (cnt + chunk - 1) / chunk,
                    expand_fn<P, Accept, chunk>{p, walk, n, keys, flags, raw(near) + s, cnt, raw(next), raw(far), raw(sizes),
-                                               adm, accept, raw(error)},
+                                               adm, accept, raw(error), raw(overflow),
+                                               std::numeric_limits<T>::max()},
                    cnt * N);
       next_size = read<Exec>(raw(sizes));
       far_size = read<Exec>(raw(sizes) + 1);
@@ -438,10 +447,13 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
     }
     if (read<Exec>(raw(error)) != 0)
       throw metric_error("geovoronoi: the metric returned a negative or NaN edge weight; weights must be >= 0");
+    // progress by expansions over the domain's voxels (about one expansion per voxel), once a round
+    if (ctl.reporting()) ctl.report(std::min(0.999, double(counts.expansions) / total));
     using std::swap;
     swap(near, next);
     near_size = next_size;
   }
+  counts.overflowed = read<Exec>(raw(overflow)) != 0;
   return counts;
 }
 

@@ -13,6 +13,15 @@
 #include <atomic>
 #include <exception>
 #include <type_traits>
+#include <utility>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+#if __has_include(<tbb/task_arena.h>)
+#include <tbb/task_arena.h>
+#define GEOVORONOI_THRUST_HAS_TBB_ARENA 1
+#endif
 
 namespace geovoronoi::thrust::detail {
 
@@ -40,6 +49,53 @@ constexpr host_threads host_threads_of() noexcept {
   } else {
     return decltype(host_threads_test(static_cast<const Exec*>(nullptr)))::value;
   }
+}
+
+template <class D>
+std::true_type is_tbb_policy_test(const ::thrust::system::tbb::detail::execution_policy<D>*);
+std::false_type is_tbb_policy_test(...);
+/// Whether an execution policy runs on the TBB system.
+template <class Exec>
+inline constexpr bool is_tbb_policy_v = decltype(is_tbb_policy_test(static_cast<const Exec*>(nullptr)))::value;
+
+#ifdef _OPENMP
+/// The calling thread's OpenMP thread count set for a scope, then restored.
+class omp_threads_scope {
+ public:
+  explicit omp_threads_scope(unsigned threads) : old_(omp_get_max_threads()) { omp_set_num_threads(int(threads)); }
+  ~omp_threads_scope() { omp_set_num_threads(old_); }
+  omp_threads_scope(const omp_threads_scope&) = delete;
+  omp_threads_scope& operator=(const omp_threads_scope&) = delete;
+
+ private:
+  int old_;
+};
+#endif
+
+/**
+ * Calls f() with @p threads host threads for @p Exec (0: unchanged): a TBB task arena of that size
+ * on the TBB system, the calling thread's OpenMP thread count on the systems whose host loops run
+ * on OpenMP threads; as is elsewhere. Results never depend on it, only the speed.
+ */
+template <class Exec, class F>
+decltype(auto) with_host_threads(const Exec&, unsigned threads, F&& f) {
+  if constexpr (is_tbb_policy_v<Exec>) {
+#ifdef GEOVORONOI_THRUST_HAS_TBB_ARENA
+    if (threads != 0) {
+      ::tbb::task_arena arena{static_cast<int>(threads)};
+      return arena.execute(std::forward<F>(f));
+    }
+#endif
+  } else if constexpr (host_threads_of<Exec>() != host_threads::serial) {
+#ifdef _OPENMP
+    if (threads != 0) {
+      const omp_threads_scope scope(threads);
+      return f();
+    }
+#endif
+  }
+  (void)threads;
+  return f();
 }
 
 /// The first exception thrown by any call of a loop body; later calls are skipped once one threw.

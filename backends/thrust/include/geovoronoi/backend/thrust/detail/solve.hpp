@@ -3,6 +3,9 @@
 
 #include <geovoronoi/backend/thrust/detail/engine.hpp>
 #include <geovoronoi/backend/thrust/detail/repair.hpp>
+#include <geovoronoi/detail/dijkstra/engine.hpp>
+#include <geovoronoi/detail/overflow.hpp>
+#include <geovoronoi/error.hpp>
 #include <geovoronoi/image.hpp>
 #include <geovoronoi/result.hpp>
 
@@ -17,6 +20,8 @@
 #include <algorithm>
 #include <cstddef>
 #include <limits>
+#include <string>
+#include <type_traits>
 #include <vector>
 
 namespace geovoronoi::thrust::detail {
@@ -179,21 +184,45 @@ void seed(const Exec& exec, dense_state<Exec, T>& st, index_t n, const std::vect
 template <class Exec, class P>
 engine_counts run_below(const Exec& exec, const P& p, const std::vector<source<typename P::value_type>>& sources,
                         typename P::value_type radius, index_t target,
-                        dense_state<Exec, typename P::value_type>& st) {
+                        dense_state<Exec, typename P::value_type>& st,
+                        const geovoronoi::detail::solve_control& ctl) {
   using T = typename P::value_type;
+  // the progress denominator: the domain's voxels where the field is host memory, else the grid's
+  double total = double(p.geometry.size());
+  if constexpr (!is_cuda_policy_v<Exec>)
+    if (ctl.reporting()) total = double(geovoronoi::detail::dijkstra::count_inside(p));
+  ctl.report(0.0);
   seed(exec, st, p.geometry.size(), sources, [radius](const source<T>& s) { return s.distance < radius; });
-  return run(exec, p, raw(st.keys), raw(st.flags), st.far, st.far_size, below_radius<T>{radius}, target);
+  return run(exec, p, raw(st.keys), raw(st.flags), st.far, st.far_size, below_radius<T>{radius}, target, ctl, total);
+}
+
+/// A raised overflow flag of an unbounded solve: the scan of geovoronoi/detail/overflow.hpp on the
+/// host result, which throws if the overflow is real. On the CUDA system the field may live in device
+/// memory, so there the error names no voxel.
+template <class Exec, class P, class Scan>
+void check_overflow(const engine_counts& c, typename P::value_type radius, Scan&& scan) {
+  using T = typename P::value_type;
+  if (!c.overflowed || radius <= std::numeric_limits<T>::max()) return;
+  if constexpr (is_cuda_policy_v<Exec>) {
+    throw overflow_error(std::string("geovoronoi: a distance overflows ") +
+                         (std::is_same_v<T, float> ? "float" : "double") +
+                         " (a path sum or an edge weight is +inf), so voxels that a path reaches would come out "
+                         "unreachable; compute in double precision, or rescale the field or the spacing");
+  } else {
+    scan();
+  }
 }
 
 /// Dense solve: distance and label images, labels repaired (see repair.hpp).
 template <class Exec, class P>
 diagram<typename P::value_type, P::dim> solve(const Exec& exec, const P& p,
                                               const std::vector<source<typename P::value_type>>& sources,
-                                              typename P::value_type radius, index_t target, engine_counts& counts) {
+                                              typename P::value_type radius, index_t target, engine_counts& counts,
+                                              const geovoronoi::detail::solve_control& ctl = {}) {
   using T = typename P::value_type;
   const index_t n = p.geometry.size();
   dense_state<Exec, T> st;
-  counts = run_below(exec, p, sources, radius, target, st);
+  counts = run_below(exec, p, sources, radius, target, st, ctl);
   diagram<T, P::dim> d;
   d.distance = image<T, P::dim>(p.geometry, T(0));
   d.label = image<label_t, P::dim>(p.geometry, no_label);
@@ -221,6 +250,8 @@ diagram<typename P::value_type, P::dim> solve(const Exec& exec, const P& p,
   counts.suspects = suspects.size();
   dense_labels<T> store{d.distance.data(), d.label.data(), n};
   counts.relabelled = repair_labels(p, store, sources, std::move(suspects));
+  check_overflow<Exec, P>(counts, radius, [&] { geovoronoi::detail::throw_if_overflowed_dense(p, d.distance.data()); });
+  ctl.report(1.0);
   return d;
 }
 
@@ -298,17 +329,22 @@ sparse_solution<T> extract(const Exec& exec, const key_cell<T>* keys, index_t n)
 template <class Exec, class P>
 sparse_solution<typename P::value_type> bounded(const Exec& exec, const P& p,
                                                 const std::vector<source<typename P::value_type>>& sources,
-                                                typename P::value_type radius, index_t target, engine_counts& counts) {
+                                                typename P::value_type radius, index_t target, engine_counts& counts,
+                                                const geovoronoi::detail::solve_control& ctl = {}) {
   using T = typename P::value_type;
   const index_t n = p.geometry.size();
   dense_state<Exec, T> st;
-  counts = run_below(exec, p, sources, radius, target, st);
+  counts = run_below(exec, p, sources, radius, target, st, ctl);
   auto r = extract(exec, raw(st.keys), n);
   counts.reached = r.size();
   auto suspects = collect_suspects(exec, raw(st.flags), n);
   counts.suspects = suspects.size();
   sparse_labels<T> store{r.voxel.data(), r.distance.data(), r.label.data(), static_cast<index_t>(r.size())};
   counts.relabelled = repair_labels(p, store, sources, std::move(suspects));
+  check_overflow<Exec, P>(counts, radius, [&] {
+    geovoronoi::detail::throw_if_overflowed_sparse(p, r.voxel.data(), r.distance.data(), r.size());
+  });
+  ctl.report(1.0);
   return r;
 }
 
