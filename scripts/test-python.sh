@@ -25,7 +25,8 @@ fi
 reqs=$("$venv/bin/python" -c 'import tomllib; print(" ".join(tomllib.load(open("pyproject.toml","rb"))["build-system"]["requires"]))')
 "$venv/bin/python" -m pip install -q --disable-pip-version-check $reqs
 echo "== building the Python package (pip install .)"
-"$venv/bin/python" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps \
+CMAKE_BUILD_PARALLEL_LEVEL="${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}" \
+  "$venv/bin/python" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps \
   --config-settings=build-dir=build-python/wheel --config-settings=cmake.define.GEOVORONOI_PYTHON_WERROR=ON .
 
 if [ -z "${GEOVORONOI_CLI:-}" ]; then

@@ -311,8 +311,8 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
         OpenMP threads for ``thrust`` (default: OpenMP's default); ``seq`` accepts only 1.
     progress : callable, optional
         Called with increments of the percentage done (they add up to 100), e.g.
-        ``tqdm(total=100).update``. The solve itself reports only its completion (the library's
-        solvers have no progress hook yet).
+        ``tqdm(total=100).update``, from the solver's progress hook (solve_options::progress); an
+        exception it raises cancels the solve and propagates.
     parent : bool
         Also compute the parent (predecessor) image.
 
@@ -331,7 +331,7 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
     Notes
     -----
     The GIL is released during the solve: other Python threads run meanwhile, and several solves
-    may run in parallel threads. Ctrl-C during a solve raises KeyboardInterrupt when it returns.
+    may run in parallel threads. Ctrl-C during a solve cancels it (KeyboardInterrupt).
     """
     f = _field_array(field)
     ndim = f.ndim
@@ -351,9 +351,7 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
     s = _points(seeds, ndim, bool(world), sp, org, f.shape, "seeds")
     _check_seeds(f, s, m)
     handle, distance, label, par, seed_idx = _ext._voronoi(f, list(sp), list(org), m, conn, b, nthreads, s, False,
-                                                           bool(parent))
-    if cb is not None:
-        cb(100.0)
+                                                           bool(parent), cb)
     return Diagram(handle, distance, label, par, seed_idx, sp, org, m, conn, mask_array)
 
 

@@ -8,7 +8,8 @@ class _DiagramHandle: ...
 
 def _voronoi(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float], metric: str,
              connectivity: int, backend: str, threads: int, seeds: npt.NDArray[Any], world: bool,
-             with_parent: bool) -> Tuple[_DiagramHandle, np.ndarray, np.ndarray, Optional[np.ndarray], np.ndarray]: ...
+             with_parent: bool, progress: Optional[Callable[[float], Any]]
+             ) -> Tuple[_DiagramHandle, np.ndarray, np.ndarray, Optional[np.ndarray], np.ndarray]: ...
 def _shape_functions(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float], metric: str,
                      connectivity: int, backend: str, threads: int, diagram: _DiagramHandle, method: str, k: int,
                      batch_size: int, progress: Optional[Callable[[float], Any]],

@@ -266,7 +266,8 @@ std::vector<gv::coord<Dim>> seeds_to_coords(const gv::grid<Dim>& g, const in_arr
 }
 
 template <class T, int Dim>
-nb::object voronoi_impl(const problem_args& a, const in_array& seeds, bool world, bool with_parent) {
+nb::object voronoi_impl(const problem_args& a, const in_array& seeds, bool world, bool with_parent,
+                        nb::object progress) {
   std::vector<std::size_t> shape(a.field.ndim());
   for (std::size_t i = 0; i < shape.size(); ++i) shape[i] = a.field.shape(i);
   const auto g = make_grid<Dim>(shape, a.spacing, a.origin);
@@ -279,11 +280,15 @@ nb::object voronoi_impl(const problem_args& a, const in_array& seeds, bool world
                                 " needs backend 'thrust'");
   gv::solve_options opt;
   opt.with_parent = with_parent;
+  opt.threads = a.threads > 0 ? unsigned(a.threads) : 0u;
+  // the solver's progress hook: reports to the callable and polls Ctrl-C (KeyboardInterrupt cancels)
+  progress_bridge bridge{progress, 0.0, std::nullopt};
+  opt.progress = [&](double f) { return bridge(f); };
   auto* h = new diagram_handle;
   h->metric = a.metric;
   h->connectivity = a.connectivity;
   nb::object owner = nb::cast(h, nb::rv_policy::take_ownership);
-  {
+  try {
     nb::gil_scoped_release release;
     thread_count_scope threads(a.threads);
     const auto t0 = std::chrono::steady_clock::now();
@@ -294,7 +299,12 @@ nb::object voronoi_impl(const problem_args& a, const in_array& seeds, bool world
       });
     });
     last_core_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  } catch (const gv::cancelled&) {
+    if (bridge.error) throw std::move(*bridge.error);
+    throw;
   }
+  if (bridge.error) throw std::move(*bridge.error);
+  bridge.finish();
   auto& d = std::get<gv::diagram<T, Dim>>(h->d);
   nb::object distance = view_to_numpy<T>(d.distance.data(), shape, owner);
   nb::object label = view_to_numpy<label_t>(d.label.data(), shape, owner);
@@ -336,6 +346,7 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
   opt.method = parse_method(method);
   opt.max_nodes_per_voxel = k;
   opt.batch_size = batch_size;
+  opt.threads = a.threads > 0 ? unsigned(a.threads) : 0u;
   progress_bridge bridge{progress, 0.0, std::nullopt};
   opt.progress = [&](double f) { return bridge(f); };
   // Without points: every voxel (shape_functions); with points: only those voxels (shape_functions_at),
@@ -407,9 +418,10 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
 
 /// voronoi() on a T field of 2 or 3 dimensions (defined in solve_<T>.cpp).
 template <class T>
-nb::object voronoi_typed(const problem_args& a, const in_array& seeds, bool world, bool with_parent) {
-  if (a.field.ndim() == 2) return voronoi_impl<T, 2>(a, seeds, world, with_parent);
-  if (a.field.ndim() == 3) return voronoi_impl<T, 3>(a, seeds, world, with_parent);
+nb::object voronoi_typed(const problem_args& a, const in_array& seeds, bool world, bool with_parent,
+                         nb::object progress) {
+  if (a.field.ndim() == 2) return voronoi_impl<T, 2>(a, seeds, world, with_parent, progress);
+  if (a.field.ndim() == 3) return voronoi_impl<T, 3>(a, seeds, world, with_parent, progress);
   throw std::invalid_argument("geovoronoi: the field must be a 2D or 3D array, got " + std::to_string(a.field.ndim()) +
                               " dimensions");
 }
@@ -425,7 +437,7 @@ nb::object shape_typed(const problem_args& a, diagram_handle& h, const std::stri
 }
 
 #define GEOVORONOI_PY_DECLARE(T, EXTERN)                                                                      \
-  EXTERN template nb::object voronoi_typed<T>(const problem_args&, const in_array&, bool, bool);            \
+  EXTERN template nb::object voronoi_typed<T>(const problem_args&, const in_array&, bool, bool, nb::object); \
   EXTERN template nb::object shape_typed<T>(const problem_args&, diagram_handle&, const std::string&, int, \
                                             std::size_t, nb::object, const std::optional<in_array>&);
 GEOVORONOI_PY_DECLARE(float, extern)

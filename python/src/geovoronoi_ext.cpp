@@ -15,11 +15,12 @@ using namespace gvpy;
 namespace {
 nb::object voronoi_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
                          int connectivity, std::string backend, int threads, in_array seeds, bool world,
-                         bool with_parent) {
+                         bool with_parent, nb::object progress) {
   problem_args a{field, std::move(spacing), std::move(origin), std::move(metric), connectivity, std::move(backend), threads};
   const bool f32 = field.dtype() == nb::dtype<float>(), f64 = field.dtype() == nb::dtype<double>();
   if (!f32 && !f64) throw nb::type_error("geovoronoi: the field must be float32 or float64");
-  return f32 ? voronoi_typed<float>(a, seeds, world, with_parent) : voronoi_typed<double>(a, seeds, world, with_parent);
+  return f32 ? voronoi_typed<float>(a, seeds, world, with_parent, progress)
+             : voronoi_typed<double>(a, seeds, world, with_parent, progress);
 }
 
 nb::object shape_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
@@ -176,7 +177,7 @@ NB_MODULE(_geovoronoi, m) {
   m.def("_voronoi", &voronoi_entry, nb::arg("field").noconvert(), nb::arg("spacing"), nb::arg("origin"),
         nb::arg("metric"), nb::arg("connectivity"), nb::arg("backend"), nb::arg("threads"),
         nb::arg("seeds").noconvert(), nb::arg("world"), nb::arg("with_parent"),
-        "Private: voronoi() after the Python layer normalised its arguments.");
+        nb::arg("progress").none(), "Private: voronoi() after the Python layer normalised its arguments.");
   m.def("_shape_functions", &shape_entry, nb::arg("field").noconvert(), nb::arg("spacing"), nb::arg("origin"),
         nb::arg("metric"), nb::arg("connectivity"), nb::arg("backend"), nb::arg("threads"), nb::arg("diagram"),
         nb::arg("method"), nb::arg("k"), nb::arg("batch_size"), nb::arg("progress").none(),

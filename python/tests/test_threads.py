@@ -139,3 +139,29 @@ def test_sigint_raised_in_the_progress_callable_cancels(sigint_raises):
     with pytest.raises(KeyboardInterrupt):
         gv.shape_functions(field, seeds, method="sibson", backend="seq", batch_size=32, progress=progress)
     assert len(seen) == 2
+
+
+@pytest.mark.parametrize("backend", ["seq", "thrust"])
+def test_voronoi_progress_is_incremental_and_cancels(backend, sigint_raises):
+    """voronoi() reports progress from inside the solve (solve_options::progress), and Ctrl-C (SIGINT
+    raised in the callable) cancels the solve with KeyboardInterrupt; a later solve is unaffected."""
+    if backend not in gv.backends():
+        pytest.skip(f"the {backend} backend is not built into this package")
+    rng = np.random.default_rng(7)
+    field = rng.uniform(1.0, 5.0, size=(48, 64, 64)).astype(np.float32)
+    seeds = np.array([[0, 0, 0], [47, 63, 63]])
+    seen = []
+    gv.voronoi(field, seeds, backend=backend, progress=seen.append)
+    assert len(seen) > 2, "the solve reported only its completion"
+    assert sum(seen) == pytest.approx(100.0)
+    calls = []
+
+    def progress(x):
+        calls.append(x)
+        if len(calls) == 2:
+            signal.raise_signal(signal.SIGINT)
+
+    with pytest.raises(KeyboardInterrupt):
+        gv.voronoi(field, seeds, backend=backend, progress=progress)
+    assert sum(calls) < 100.0
+    assert gv.voronoi(field, seeds, backend=backend).label.max() == 1
