@@ -35,6 +35,13 @@ class progress_bar {
     fraction_ = fraction;
   }
   void set_fraction(double f) { fraction_ = f; }
+  /// One line on stderr (a warning or a note), on its own line even while the bar is drawn.
+  void note(const std::string& line) {
+    std::lock_guard<std::mutex> lock(print_mutex_);
+    if (drawn_ && tty_) std::fprintf(stderr, "\r\033[K");
+    std::fprintf(stderr, "%s\n", line.c_str());
+    std::fflush(stderr);
+  }
   double seconds() const { return std::chrono::duration<double>(clock::now() - start_).count(); }
 
   void finish() {
@@ -71,6 +78,7 @@ class progress_bar {
         phase_seconds = std::chrono::duration<double>(clock::now() - phase_start_).count();
       }
       const double f = fraction_;
+      std::lock_guard<std::mutex> print_lock(print_mutex_);
       std::string left = time_left(phase_seconds, f);
       if (!left.empty()) left = ", " + left;
       if (!tty_) {  // a plain line every 10 s
@@ -100,6 +108,7 @@ class progress_bar {
   bool tty_;
   double next_plain_ = 0.0;  // the ticker thread's only
   std::mutex mutex_;
+  std::mutex print_mutex_;  // one writer at a time on stderr; guards drawn_
   std::string phase_ = "starting";
   std::atomic<double> fraction_{-1.0};
   std::atomic<bool> stop_{false};
