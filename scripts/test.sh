@@ -55,11 +55,12 @@ stage_done "python package"
 
 echo "== ASan + UBSan build (tests only, $(basename "$(command -v clang++ || command -v g++)"))"
 # clang when present (test.sh installs it): its ASan + UBSan build of the tests costs about 0.6 of
-# GCC's at the same -O1 -g1 (GCC's UBSan instrumentation is the difference)
+# GCC's at the same -O1 -g1 (GCC's UBSan instrumentation is the difference). Warnings were made
+# errors in the release stage, on the same sources; this stage is for what runs.
 san_cxx=$(command -v clang++ || command -v g++)
 cmake -S . -B build-sanitize -DCMAKE_CXX_COMPILER="$san_cxx" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
-      -DGEOVORONOI_SANITIZE=ON -DGEOVORONOI_WERROR=ON \
+      -DGEOVORONOI_SANITIZE=ON -DGEOVORONOI_WERROR=OFF \
       -DGEOVORONOI_BUILD_BENCH=OFF -DGEOVORONOI_BUILD_TOOLS=OFF -DGEOVORONOI_BUILD_EXAMPLES=OFF \
       -DGEOVORONOI_HEADER_CHECKS=OFF -DGEOVORONOI_CUDA=OFF -DGEOVORONOI_TEST_EXTRA_THRUST_SYSTEMS=OFF >/dev/null
 cmake --build build-sanitize -j"$jobs"
