@@ -107,8 +107,10 @@ index_t parent_of(const P& p, const stencil_walker<P::dim>& walk, const D& d, in
   const auto target = kt::make(d.distance[v], l);
   const T fv = p.field[v];
   index_t best = no_index;
+  const T dv = d.distance[v];
   walk.for_each_neighbour(p, v, [&](int k, index_t u) {
-    if (d.label[u] == no_label) return;
+    // a realiser carries v's label and, weights being >= 0, is no farther than v: test that first
+    if (d.label[u] != l || !(d.distance[u] <= dv)) return;
     const T w = p.metric(p.edges.length[k], p.field[u], fv);
     const T nd = d.distance[u] + w;
     if (kt::make(nd, d.label[u]) == target && (best == no_index || u < best)) best = u;
@@ -162,18 +164,33 @@ update_stats cut_in_place(const P& after, diagram<typename P::value_type, P::dim
     d.label[x] = no_label;
     d.parent[x] = no_index;
   }
-  // 3. re-solve: Dijkstra from the valid reached neighbours of the invalidated voxels (over uncut
-  //    edges); valid voxels already hold their final keys, so it only lowers invalidated ones
+  // 3. re-solve: each invalidated voxel starts from its best candidate through a valid reached
+  //    neighbour (over uncut edges; the relaxation the full solve makes when it pops that neighbour),
+  //    then Dijkstra among the invalidated voxels. Valid voxels already hold their final keys, so
+  //    it lowers only invalidated ones.
   diagram_keys<T> keys{d.distance.data(), d.label.data(), after.field, {}};
   radix_heap<T> heap;
   voxel_bits in_boundary(n);
   std::vector<index_t> boundary;
-  for (index_t x : invalid)
-    walk.for_each_neighbour(after, x, [&](int, index_t u) {
-      if (in_invalid.test(u) || d.label[u] == no_label || !in_boundary.insert(u)) return;
-      boundary.push_back(u);
-      heap.push(kt::make(d.distance[u], d.label[u]), u);
+  const T inf = std::numeric_limits<T>::infinity();
+  for (index_t x : invalid) {
+    auto best = kt::unreached;
+    const T fx = after.field[x];
+    walk.for_each_neighbour(after, x, [&](int k, index_t u) {
+      if (in_invalid.test(u)) return;
+      const label_t lu = d.label[u];
+      if (lu == no_label) return;
+      if (in_boundary.insert(u)) boundary.push_back(u);
+      const T nd = d.distance[u] + after.metric(after.edges.length[k], after.field[u], fx);
+      if (!(nd < inf)) return;
+      const auto c = kt::make(nd, lu);
+      if (c < best) best = c;
     });
+    if (best != kt::unreached) {
+      keys.set(x, best);
+      heap.push(best, x);
+    }
+  }
   st.boundary = boundary.size();
   // the accept rule of the unbounded solve: a sum that overflows to +inf reaches nothing
   st.settled = dijkstra::run(after, keys, heap, [](index_t, T nd) { return nd < std::numeric_limits<T>::infinity(); });
