@@ -7,6 +7,7 @@
 
 #include "oracle.hpp"
 
+#include <algorithm>
 #include <random>
 #include <string>
 
@@ -158,4 +159,91 @@ TEST_CASE("update: a cut that crosses no tree edge changes nothing; bad input is
   other.insert(g.index({1, 0}), 2);
   CHECK_THROWS_WITH_AS(gv::update(gv::seq, pc, d, other), doctest::Contains("not cut in the problem"),
                        std::invalid_argument);
+}
+
+namespace {
+
+/// Carving: a random box of voxels (never a seed) leaves the domain; on a problem with or without
+/// cuts, the update equals a full solve of the carved problem.
+template <class T, int Dim, class Metric, int N>
+void carve_case(std::mt19937_64& rng, int trial, bool cost, int steps) {
+  const auto g = random_grid<Dim>(rng, trial % 2 == 1);
+  auto f = random_field<T>(rng, g.size(), trial % 3 != 2, trial % 4 == 0 ? 0.0 : 0.1, cost);
+  const auto p = gv::make_problem(g, f, Metric{}, gv::connectivity<N>{});
+  const auto seeds = random_seeds(rng, p, 1 + int(rng() % 4));
+  if (seeds.empty()) return;
+  std::vector<gv::index_t> seed_voxels;
+  for (const auto& s : seeds) seed_voxels.push_back(g.index(s));
+  const gv::cut_table table(trial % 2 == 0 ? random_cuts(rng, g, gv::connectivity<N>{}, 0.1)
+                                           : gv::cut_set<Dim>(g, gv::connectivity<N>{}));
+  auto run = [&](const auto& problem_of) {
+    auto d = gv::voronoi(gv::seq, problem_of(), seeds, gv::solve_options{true});
+    for (int s = 0; s < steps; ++s) {
+      gv::carving c;
+      gv::coord<Dim> lo{}, ext{};
+      for (int a = 0; a < Dim; ++a) {
+        lo[a] = gv::index_t(rng() % std::uint64_t(g.extent(a)));
+        ext[a] = 1 + gv::index_t(rng() % 3);
+      }
+      for (gv::index_t v = 0; v < g.size(); ++v) {
+        const auto cv = g.coords(v);
+        bool in = true;
+        for (int a = 0; a < Dim; ++a) in = in && cv[a] >= lo[a] && cv[a] < lo[a] + ext[a];
+        if (in && std::find(seed_voxels.begin(), seed_voxels.end(), v) == seed_voxels.end()) {
+          f[std::size_t(v)] = cost ? T(-1) : T(0);
+          c.voxels.push_back(v);
+        }
+      }
+      const auto after = problem_of();
+      const auto updated = gv::update(gv::seq, after, d, c);
+      const auto full = gv::voronoi(gv::seq, after, seeds, gv::solve_options{true});
+      require_identical(updated, full,
+                        "carve dim " + std::to_string(Dim) + " N " + std::to_string(N) + " trial " +
+                            std::to_string(trial) + " step " + std::to_string(s));
+      d = updated;
+    }
+  };
+  // the problems point at f, so they see each carving
+  if (trial % 2 == 0)
+    run([&] { return gv::with_cuts(gv::make_problem(g, f, Metric{}, gv::connectivity<N>{}), table); });
+  else
+    run([&] { return gv::make_problem(g, f, Metric{}, gv::connectivity<N>{}); });
+}
+
+template <class T, int Dim, int N>
+void carve_all_metrics(int trials, int steps) {
+  std::mt19937_64 rng(999 + 7 * N + 100 * sizeof(T));
+  for (int t = 0; t < trials; ++t) {
+    carve_case<T, Dim, gv::uniform, N>(rng, t, false, steps);
+    carve_case<T, Dim, gv::min_stiffness, N>(rng, t, false, steps);
+    carve_case<T, Dim, gv::mean_cost, N>(rng, t, true, steps);
+    carve_case<T, Dim, destination_cost, N>(rng, t, false, steps);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("update after carving voxels (with and without cuts) equals a full recompute, bit for bit") {
+  carve_all_metrics<float, 2, 4>(40, 3);
+  carve_all_metrics<float, 2, 8>(40, 3);
+  carve_all_metrics<float, 3, 6>(40, 3);
+  carve_all_metrics<float, 3, 26>(40, 3);
+  carve_all_metrics<double, 3, 18>(20, 3);
+}
+
+TEST_CASE("update: a carving that keeps a voxel inside or removes a seed is refused") {
+  const gv::grid<2> g({5, 1});
+  std::vector<float> f(5, 1.0f);
+  const auto p = gv::make_problem(g, f, gv::uniform{}, gv::connectivity<4>{});
+  const auto d = gv::voronoi(gv::seq, p, std::vector<gv::coord<2>>{{0, 0}}, gv::solve_options{true});
+  CHECK_THROWS_WITH_AS(gv::update(gv::seq, p, d, gv::carving{{2}}), doctest::Contains("still inside"),
+                       std::invalid_argument);
+  f[0] = 0.0f;
+  CHECK_THROWS_WITH_AS(gv::update(gv::seq, p, d, gv::carving{{0}}), doctest::Contains("seed 0"), std::invalid_argument);
+  f[0] = 1.0f;
+  f[3] = 0.0f;
+  const auto u = gv::update(gv::seq, p, d, gv::carving{{3}});
+  CHECK(u.label[3] == gv::no_label);
+  CHECK(u.label[4] == gv::no_label);
+  CHECK(u.parent[2] == 1);
 }

@@ -81,9 +81,43 @@ void bench_update_steak128_cut20(benchmark::State& state) {
   state.counters["invalidated"] = double(s.invalidated);
   state.counters["boundary"] = double(s.boundary);
 }
+// `update/seq/steak128/carve8`: the 8^3 voxels x 66..73, y 62..69, z 12..19 (beside the bone's stem)
+// leave the domain (stiffness 0); same restore-outside-the-timer scheme.
+void bench_update_steak128_carve8(benchmark::State& state) {
+  const auto& c = steak_cut_case::get();
+  const auto& g = c.field.geometry();
+  const auto p = gvb::make_problem(g, c.field, gvb::min_stiffness{}, gvb::connectivity<26>{});
+  const auto before = gvb::voronoi(gvb::seq, p, c.seeds, gvb::solve_options{true});
+  auto carved_field = c.field;
+  gvb::carving carve;
+  for (gvb::index_t z = 12; z < 20; ++z)
+    for (gvb::index_t y = 62; y < 70; ++y)
+      for (gvb::index_t x = 66; x < 74; ++x) {
+        carve.voxels.push_back(g.index({x, y, z}));
+        carved_field[carve.voxels.back()] = 0.0f;
+      }
+  const auto after = gvb::make_problem(g, carved_field, gvb::min_stiffness{}, gvb::connectivity<26>{});
+  auto d = before;
+  gvb::update_stats s;
+  for (auto _ : state) {
+    state.PauseTiming();
+    d.distance = before.distance;
+    d.label = before.label;
+    d.parent = before.parent;
+    state.ResumeTiming();
+    s = gvb::update_in_place(gvb::seq, after, d, carve);
+    benchmark::DoNotOptimize(d);
+  }
+  state.counters["invalidated"] = double(s.invalidated);
+  state.counters["boundary"] = double(s.boundary);
+}
 }  // namespace
 
 GEOVORONOI_BENCH_REGISTER(register_update_cases) {
+  benchmark::RegisterBenchmark("update/seq/steak128/carve8", bench_update_steak128_carve8)
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Apply(geovoronoi::bench::min_time_1s);
   benchmark::RegisterBenchmark("voronoi/seq/steak128", bench_full_steak128)
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime()

@@ -31,9 +31,14 @@
 
 namespace geovoronoi {
 
+/// A change that removes voxels from the domain: their linear indices (any order, repeats allowed).
+struct carving {
+  std::vector<index_t> voxels;
+};
+
 /// What an incremental update did (for benchmarks and tests).
 struct update_stats {
-  std::size_t cut_tree_edges = 0;  ///< newly cut edges that were parent edges of the old tree
+  std::size_t cut_tree_edges = 0;  ///< roots: newly cut parent edges of the old tree, or carved reached voxels
   std::size_t invalidated = 0;     ///< voxels whose tree path crossed a new cut (re-solved)
   std::size_t boundary = 0;        ///< valid voxels next to them that seeded the re-solve
   std::size_t settled = 0;         ///< voxels the re-solve settled
@@ -118,12 +123,9 @@ index_t parent_of(const P& p, const stencil_walker<P::dim>& walk, const D& d, in
   return best;
 }
 
+/// The checks every change shares: the diagram fits the problem and has parents.
 template <class P>
-update_stats cut_in_place(const P& after, diagram<typename P::value_type, P::dim>& d,
-                          const cut_set<P::dim>& added) {
-  using T = typename P::value_type;
-  using kt = key_traits<T>;
-  constexpr int Dim = P::dim;
+void check_diagram(const P& after, const diagram<typename P::value_type, P::dim>& d) {
   const std::string who = "geovoronoi::update: ";
   const index_t n = after.geometry.size();
   if (!(d.geometry() == after.geometry) || d.label.size() != n)
@@ -131,6 +133,19 @@ update_stats cut_in_place(const P& after, diagram<typename P::value_type, P::dim
   if (d.parent.size() != n)
     throw std::invalid_argument(who + "the diagram has no parent image; compute it with solve_options::with_parent "
                                       "(the update follows the shortest-path tree)");
+}
+
+template <class P>
+void resolve(const P& after, diagram<typename P::value_type, P::dim>& d, std::vector<index_t>& invalid,
+             voxel_bits& in_invalid, update_stats& st);
+
+template <class P>
+update_stats cut_in_place(const P& after, diagram<typename P::value_type, P::dim>& d,
+                          const cut_set<P::dim>& added) {
+  constexpr int Dim = P::dim;
+  const std::string who = "geovoronoi::update: ";
+  const index_t n = after.geometry.size();
+  check_diagram(after, d);
   if (!(added.geometry() == after.geometry) || added.directions() != P::neighbours)
     throw std::invalid_argument(who + "the cut_set of the change belongs to another grid or connectivity");
   update_stats st;
@@ -149,6 +164,48 @@ update_stats cut_in_place(const P& after, diagram<typename P::value_type, P::dim
     throw std::invalid_argument(who + "the edge from voxel " + to_string<Dim>(after.geometry.coords(bad_u)) +
                                 " in direction " + std::to_string(bad_d) +
                                 " is in the change but not cut in the problem after it");
+  resolve(after, d, invalid, in_invalid, st);
+  return st;
+}
+
+/// Carving: the carved voxels (outside the domain after the change) and their subtrees are
+/// invalidated; the carved ones stay unreached.
+template <class P>
+update_stats carve_in_place(const P& after, diagram<typename P::value_type, P::dim>& d,
+                            const std::vector<index_t>& carved) {
+  constexpr int Dim = P::dim;
+  const std::string who = "geovoronoi::update: ";
+  const index_t n = after.geometry.size();
+  check_diagram(after, d);
+  update_stats st;
+  std::vector<index_t> invalid;
+  voxel_bits in_invalid(n);
+  for (const index_t v : carved) {
+    if (v < 0 || v >= n)
+      throw std::invalid_argument(who + "carved voxel " + std::to_string(v) + " is outside the grid (" +
+                                  std::to_string(n) + " voxels)");
+    if (after.inside(v))
+      throw std::invalid_argument(who + "carved voxel " + to_string<Dim>(after.geometry.coords(v)) +
+                                  " is still inside the domain of the problem after the change");
+    for (std::size_t i = 0; i < d.seeds.size(); ++i)
+      if (d.seeds[i] == v)
+        throw std::invalid_argument(who + "the carving removes seed " + std::to_string(i) + " at " +
+                                    to_string<Dim>(after.geometry.coords(v)) + "; remove the node instead");
+    if (d.label[v] != no_label && in_invalid.insert(v)) invalid.push_back(v), ++st.cut_tree_edges;
+  }
+  resolve(after, d, invalid, in_invalid, st);
+  return st;
+}
+
+/// Invalidates the subtrees of @p invalid (the roots on entry), re-solves them and recomputes the
+/// parents that may have changed.
+template <class P>
+void resolve(const P& after, diagram<typename P::value_type, P::dim>& d, std::vector<index_t>& invalid,
+             voxel_bits& in_invalid, update_stats& st) {
+  using T = typename P::value_type;
+  using kt = key_traits<T>;
+  constexpr int Dim = P::dim;
+  const index_t n = after.geometry.size();
   // 2. their subtrees: children are the neighbours (any stencil edge, cut or not) whose parent is x
   const auto whole = without_cuts(after);
   const stencil_walker<Dim> walk(after);
@@ -176,11 +233,13 @@ update_stats cut_in_place(const P& after, diagram<typename P::value_type, P::dim
   for (index_t x : invalid) {
     auto best = kt::unreached;
     const T fx = after.field[x];
+    const bool open = after.inside(x);  // a carved voxel stays unreached
     walk.for_each_neighbour(after, x, [&](int k, index_t u) {
       if (in_invalid.test(u)) return;
       const label_t lu = d.label[u];
       if (lu == no_label) return;
       if (in_boundary.insert(u)) boundary.push_back(u);
+      if (!open) return;
       const T nd = d.distance[u] + after.metric(after.edges.length[k], after.field[u], fx);
       if (!(nd < inf)) return;
       const auto c = kt::make(nd, lu);
@@ -198,7 +257,6 @@ update_stats cut_in_place(const P& after, diagram<typename P::value_type, P::dim
   for (index_t x : invalid) d.parent[x] = parent_of(after, walk, d, x);
   for (index_t u : boundary) d.parent[u] = parent_of(after, walk, d, u);
   st.reparented = invalid.size() + boundary.size();
-  return st;
 }
 
 }  // namespace detail::update
@@ -226,6 +284,31 @@ update_stats update_in_place(const Policy&, const P& after, diagram<typename P::
                              const cut_set<P::dim>& added) {
   static_assert(P::has_cuts, "geovoronoi::update: the problem after a cut must carry its cuts (with_cuts)");
   return detail::update::cut_in_place(after, d, added);
+}
+
+/**
+ * @brief Updates diagram @p d, in place, after the voxels @p carved were removed from the domain
+ *        (their field values made outside values in @p after): afterwards it equals
+ *        `voronoi(policy, after, seeds, {with_parent = true})` bit for bit. Same contract and work
+ *        bound as the cut form; a carved voxel is one more root (its whole subtree is re-solved).
+ * @throws std::invalid_argument as the cut form, and when a carved voxel is outside the grid, still
+ *         inside the domain of @p after, or a seed.
+ */
+template <class Policy, class P, std::enable_if_t<is_backend_policy_v<Policy>, int> = 0>
+update_stats update_in_place(const Policy&, const P& after, diagram<typename P::value_type, P::dim>& d,
+                             const carving& carved) {
+  return detail::update::carve_in_place(after, d, carved.voxels);
+}
+
+/// @brief The diagram after the carving @p carved; see update_in_place().
+template <class Policy, class P, std::enable_if_t<is_backend_policy_v<Policy>, int> = 0>
+diagram<typename P::value_type, P::dim> update(const Policy& policy, const P& after,
+                                               const diagram<typename P::value_type, P::dim>& before,
+                                               const carving& carved, update_stats* stats = nullptr) {
+  auto d = before;
+  const auto s = update_in_place(policy, after, d, carved);
+  if (stats) *stats = s;
+  return d;
 }
 
 /// @brief The diagram after the edges of @p added were cut, from the diagram @p before (computed
