@@ -15,4 +15,5 @@
 #include <geovoronoi/problem.hpp>
 #include <geovoronoi/result.hpp>
 #include <geovoronoi/shape_functions.hpp>
+#include <geovoronoi/update.hpp>
 #include <geovoronoi/voronoi.hpp>

@@ -29,7 +29,16 @@ auto bits(T x) {
   }
 }
 
-/// Bellman-Ford oracle: returns (distance, label) for every voxel.
+/// Whether the edge from voxel @p v in stencil direction @p k is cut (never, for a problem without
+/// cuts). Reads the cut table's plain lookup, not the solvers' walker.
+template <class P>
+bool cut_edge(const P& p, gv::index_t v, int k) {
+  if constexpr (P::has_cuts) return p.cuts.cut(v, k);
+  else return false;
+}
+
+/// Bellman-Ford oracle: returns (distance, label) for every voxel; cut edges (if the problem has
+/// cuts) are not edges.
 template <class P>
 gv::diagram<typename P::value_type, P::dim> oracle(const P& p, const std::vector<gv::source<typename P::value_type>>& src) {
   using T = typename P::value_type;
@@ -52,6 +61,7 @@ gv::diagram<typename P::value_type, P::dim> oracle(const P& p, const std::vector
         gv::coord<Dim> cu = cv;
         for (int a = 0; a < Dim; ++a) cu[a] += offs[k][a];
         if (!g.contains(cu)) continue;
+        if (cut_edge(p, v, k)) continue;
         const gv::index_t u = g.index(cu);
         if (!p.inside(u) || l[u] == gv::no_label) continue;
         // the edge u -> v has the same length as v -> u
@@ -84,6 +94,7 @@ gv::diagram<typename P::value_type, P::dim> oracle(const P& p, const std::vector
         gv::coord<Dim> cu = cv;
         for (int a = 0; a < Dim; ++a) cu[a] += offs[k][a];
         if (!g.contains(cu)) continue;
+        if (cut_edge(p, v, k)) continue;
         const gv::index_t u = g.index(cu);
         if (!p.inside(u) || fin[u] == gv::no_label) continue;
         const T w = p.metric(p.edges.length[k], p.field[u], p.field[v]);
@@ -144,6 +155,24 @@ std::vector<T> random_field(std::mt19937_64& rng, gv::index_t n, bool ties, doub
       x = ties ? levels[rng() % 3] : T(0.25 + 4 * u(rng));
   }
   return f;
+}
+
+/// A random set of cut edges of grid @p g under connectivity<N>: each edge cut with probability
+/// @p prob.
+template <int Dim, int N>
+gv::cut_set<Dim> random_cuts(std::mt19937_64& rng, const gv::grid<Dim>& g, gv::connectivity<N> c, double prob) {
+  gv::cut_builder<Dim> b(g, c);
+  std::uniform_real_distribution<double> u(0, 1);
+  constexpr auto offs = gv::connectivity<N>::offsets();
+  for (gv::index_t v = 0; v < g.size(); ++v) {
+    const auto cv = g.coords(v);
+    for (int d = N / 2; d < N; ++d) {
+      auto cu = cv;
+      for (int a = 0; a < Dim; ++a) cu[a] += offs[d][a];
+      if (g.contains(cu) && u(rng) < prob) b.insert(v, d);
+    }
+  }
+  return b.build();
 }
 
 /// Up to `k` distinct unmasked voxels, as seeds (coordinates); empty if the domain is empty.

@@ -5,6 +5,7 @@
 
 #include <geovoronoi/config.hpp>
 #include <geovoronoi/connectivity.hpp>
+#include <geovoronoi/cut.hpp>
 #include <geovoronoi/error.hpp>
 #include <geovoronoi/grid.hpp>
 #include <geovoronoi/image.hpp>
@@ -18,6 +19,31 @@
 
 namespace geovoronoi {
 
+/// The cut policy of a problem without cuts: every edge of the stencil exists. An empty tag, so a
+/// problem without cuts has the same size and layout as before cuts existed, and every cut test
+/// folds to a constant.
+struct no_cuts {};
+
+namespace detail {
+/// Base of problem that holds its cuts: nothing for no_cuts (empty base optimisation), a cut_view
+/// otherwise.
+template <class Cuts>
+struct cut_holder;
+template <>
+struct cut_holder<no_cuts> {
+  static constexpr bool has_cuts = false;
+  /// No direction is ever cut.
+  GEOVORONOI_HOST_DEVICE static constexpr cut_mask_t cut_mask(index_t) noexcept { return 0; }
+};
+template <>
+struct cut_holder<cut_view> {
+  static constexpr bool has_cuts = true;
+  cut_view cuts{};  ///< the cut edges (the table it views must outlive the problem)
+  /// Mask of the cut stencil directions at voxel @p v (bit k: the edge to neighbour k is cut).
+  GEOVORONOI_HOST_DEVICE cut_mask_t cut_mask(index_t v) const noexcept { return cuts.incident(v); }
+};
+}  // namespace detail
+
 /**
  * @brief Everything that defines the weighted grid graph: grid, per-voxel field (stiffness or cost,
  *        not owned), metric and connectivity resolved into a stencil.
@@ -26,11 +52,13 @@ namespace geovoronoi {
  * @tparam Dim    2 or 3.
  * @tparam Metric edge-weight policy (see metric.hpp).
  * @tparam N      connectivity (4, 8 in 2D; 6, 18, 26 in 3D).
+ * @tparam Cuts   no_cuts (the default: every stencil edge exists) or cut_view (the edges of a
+ *                cut_table are removed from the graph, both directions; see with_cuts()).
  *
- * The field must outlive the problem. Build one with make_problem().
+ * The field (and the cut table, if any) must outlive the problem. Build one with make_problem().
  */
-template <class T, int Dim, class Metric, int N>
-struct problem {
+template <class T, int Dim, class Metric, int N, class Cuts = no_cuts>
+struct problem : detail::cut_holder<Cuts> {
   static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>,
                 "geovoronoi::problem: the field/distance type must be float or double");
   static_assert(connectivity<N>::dim == Dim,
@@ -42,6 +70,9 @@ struct problem {
   using value_type = T;
   using metric_type = Metric;
   using connectivity_type = connectivity<N>;
+  using cuts_type = Cuts;
+  static_assert(std::is_same_v<Cuts, no_cuts> || std::is_same_v<Cuts, cut_view>,
+                "geovoronoi::problem: Cuts must be no_cuts or cut_view");
   static constexpr int dim = Dim;
   static constexpr int neighbours = N;
 
@@ -132,6 +163,46 @@ auto make_problem(const grid<Dim>& g, const Field& field, Metric metric = {}, co
   p.metric = metric;
   p.edges = stencil<T, Dim, N>(g, conn);
   return p;
+}
+
+/**
+ * @brief The problem @p p with the edges of @p cuts removed from its graph (both directions of each
+ *        cut edge). The table must have been built from a cut_set of @p p's grid and connectivity,
+ *        and must outlive the result.
+ *
+ * A problem with cuts is a distinct type (problem<..., cut_view>): code that never calls with_cuts
+ * compiles exactly as before.
+ * @throws std::invalid_argument if @p p already carries cuts (merge the cut_sets instead).
+ *
+ * @code
+ * geovoronoi::cut_table table(cut_set);
+ * auto pc = geovoronoi::with_cuts(p, table);
+ * auto d = geovoronoi::voronoi(geovoronoi::seq, pc, seeds);
+ * @endcode
+ */
+template <class T, int Dim, class Metric, int N>
+problem<T, Dim, Metric, N, cut_view> with_cuts(const problem<T, Dim, Metric, N>& p, const cut_table& cuts) {
+  problem<T, Dim, Metric, N, cut_view> q;
+  q.geometry = p.geometry;
+  q.field = p.field;
+  q.metric = p.metric;
+  q.edges = p.edges;
+  q.cuts = cuts.view();
+  return q;
+}
+/// The cut table must outlive the problem: a temporary would dangle.
+template <class T, int Dim, class Metric, int N>
+void with_cuts(const problem<T, Dim, Metric, N>&, cut_table&&) = delete;
+
+/// The problem @p p without its cuts (the same grid, field, metric and connectivity).
+template <class T, int Dim, class Metric, int N, class C>
+problem<T, Dim, Metric, N> without_cuts(const problem<T, Dim, Metric, N, C>& p) {
+  problem<T, Dim, Metric, N> q;
+  q.geometry = p.geometry;
+  q.field = p.field;
+  q.metric = p.metric;
+  q.edges = p.edges;
+  return q;
 }
 
 /// @brief A temporary field would be destroyed at the end of the statement while the problem still

@@ -12,6 +12,8 @@
 
 #include "oracle.hpp"
 
+#include <geovoronoi/cut_from_mesh.hpp>
+
 #include <algorithm>
 #include <random>
 #include <string>
@@ -109,6 +111,154 @@ TEST_CASE("backend " GEOVORONOI_TEST_BACKEND_NAME ": equals the Bellman-Ford ora
 #endif
   oracle_all_metrics<float, 3, 26>(60);
   oracle_all_metrics<double, 3, 26>(20);
+}
+
+// ---- cut edges (issue 13) -------------------------------------------------------------------------
+
+/// A problem with random cut edges against the oracle (which reads the cut table's plain lookup):
+/// distances and labels bit for bit, parents realise the key over an edge that is not cut.
+template <class T, int Dim, class Metric, int N>
+void cut_case(std::mt19937_64& rng, int trial, bool cost_metric) {
+  const bool aniso = trial % 2 == 1, ties = trial % 3 != 2;
+  const auto g = random_grid<Dim>(rng, aniso);
+  const auto f = random_field<T>(rng, g.size(), ties, trial % 4 == 0 ? 0.0 : 0.15, cost_metric);
+  const auto p0 = gv::make_problem(g, f, Metric{}, gv::connectivity<N>{});
+  const auto cuts = random_cuts(rng, g, gv::connectivity<N>{}, trial % 5 == 0 ? 0.6 : 0.25);
+  const gv::cut_table table(cuts);
+  const auto p = gv::with_cuts(p0, table);
+  static_assert(decltype(p)::has_cuts && !decltype(p0)::has_cuts);
+  const auto seeds = random_seeds(rng, p, 1 + int(rng() % 5));
+  if (seeds.empty()) return;
+  const std::string what = std::string(GEOVORONOI_TEST_BACKEND_NAME) + " with cuts vs oracle, dim " +
+                           std::to_string(Dim) + ", N " + std::to_string(N) + ", trial " + std::to_string(trial);
+  const auto got = gv::voronoi(GEOVORONOI_TEST_POLICY(), p, seeds, gv::solve_options{true});
+  require_same_diagram(got, oracle(p, as_sources(p, seeds)), what);
+  const auto ref = gv::voronoi(gv::seq, p, seeds, gv::solve_options{true});
+  CHECK(got.parent.values() == ref.parent.values());
+  constexpr auto offs = gv::connectivity<N>::offsets();
+  for (gv::index_t v = 0; v < g.size(); ++v) {
+    const auto par = got.parent[v];
+    if (par == gv::no_index) continue;
+    int dir = -1;
+    for (int k = 0; k < N; ++k) {
+      auto c = g.coords(v);
+      for (int a = 0; a < Dim; ++a) c[a] += offs[k][a];
+      if (g.contains(c) && g.index(c) == par) dir = k;
+    }
+    REQUIRE(dir >= 0);
+    CHECK_FALSE(cuts.cut(v, dir));
+    CHECK(got.label[par] == got.label[v]);
+    CHECK(bits(T(got.distance[par] + p.weight(par, v, dir))) == bits(got.distance[v]));
+  }
+  // with no edge cut the problem with cuts solves exactly like the one without
+  const gv::cut_table none(gv::cut_set<Dim>(g, gv::connectivity<N>{}));
+  require_same_diagram(gv::voronoi(GEOVORONOI_TEST_POLICY(), gv::with_cuts(p0, none), seeds),
+                       gv::voronoi(GEOVORONOI_TEST_POLICY(), p0, seeds), what + ", empty cut");
+}
+
+template <class T, int Dim, int N>
+void cut_all_metrics(int trials) {
+  std::mt19937_64 rng(4321 + 31 * N + 1000 * sizeof(T));
+  for (int t = 0; t < trials; ++t) {
+    cut_case<T, Dim, gv::uniform, N>(rng, t, false);
+    cut_case<T, Dim, gv::min_stiffness, N>(rng, t, false);
+    cut_case<T, Dim, gv::mean_cost, N>(rng, t, true);
+    cut_case<T, Dim, destination_cost, N>(rng, t, false);
+  }
+}
+
+TEST_CASE("backend " GEOVORONOI_TEST_BACKEND_NAME ": cut edges, 2D and 3D, against the oracle") {
+  GV_SUITE_PREAMBLE();
+#ifndef GEOVORONOI_TEST_REDUCED_MATRIX
+  cut_all_metrics<float, 2, 4>(25);
+  cut_all_metrics<float, 3, 6>(25);
+  cut_all_metrics<float, 3, 18>(15);
+#endif
+  cut_all_metrics<float, 2, 8>(25);
+  cut_all_metrics<double, 2, 8>(10);
+  cut_all_metrics<float, 3, 26>(25);
+  cut_all_metrics<double, 3, 26>(10);
+}
+
+TEST_CASE("backend " GEOVORONOI_TEST_BACKEND_NAME ": a cut plane across the grid leaves the far side unreachable") {
+  GV_SUITE_PREAMBLE();
+  const gv::grid<3> g({10, 7, 6}, {1.0, 0.5, 2.0});
+  const std::vector<float> f(g.size(), 1.0f);
+  const auto p0 = gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<26>{});
+  // two triangles covering the plane x = 4.5 (world = index here: origin 0, x spacing 1)
+  gv::triangle_mesh m;
+  m.vertices = {{4.5, -10, -10}, {4.5, 20, -10}, {4.5, 20, 40}, {4.5, -10, 40}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const auto cuts = gv::cut_from_mesh(g, gv::connectivity<26>{}, m);
+  CHECK(cuts.size() == std::size_t(19 * 16));  // the 26-neighbour edges from x = 4 to x = 5
+  const gv::cut_table table(cuts);
+  const auto p = gv::with_cuts(p0, table);
+  const std::vector<gv::coord<3>> seeds{{1, 3, 2}};
+  const auto d = gv::voronoi(GEOVORONOI_TEST_POLICY(), p, seeds, gv::solve_options{true});
+  const auto d0 = gv::voronoi(GEOVORONOI_TEST_POLICY(), p0, seeds);
+  for (gv::index_t v = 0; v < g.size(); ++v) {
+    const auto c = g.coords(v);
+    if (c[0] >= 5) {
+      CHECK(d.label[v] == gv::no_label);
+      CHECK(d.distance[v] == std::numeric_limits<float>::infinity());
+      CHECK(d.parent[v] == gv::no_index);
+    } else {
+      CHECK(d.label[v] == 0);
+      CHECK(d.distance[v] >= d0.distance[v]);  // paths near the plane may be longer; none shorter
+    }
+  }
+  // a second seed on the far side takes it all
+  const std::vector<gv::coord<3>> both{{1, 3, 2}, {8, 0, 0}};
+  const auto e = gv::voronoi(GEOVORONOI_TEST_POLICY(), p, both);
+  for (gv::index_t v = 0; v < g.size(); ++v) CHECK(e.label[v] == (g.coords(v)[0] >= 5 ? 1 : 0));
+}
+
+TEST_CASE("backend " GEOVORONOI_TEST_BACKEND_NAME ": insert-query and bounded solves honour cuts") {
+  GV_SUITE_PREAMBLE();
+  std::mt19937_64 rng(1313);
+  auto run = [&](auto dim_tag, auto n_tag, int trials) {
+    constexpr int Dim = decltype(dim_tag)::value;
+    constexpr int N = decltype(n_tag)::value;
+    for (int t = 0; t < trials; ++t) {
+      const auto g = random_grid<Dim>(rng, t % 2 == 1);
+      const auto f = random_field<float>(rng, g.size(), t % 3 != 2, 0.1, false);
+      const auto p0 = gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<N>{});
+      const gv::cut_table table(random_cuts(rng, g, gv::connectivity<N>{}, 0.3));
+      const auto p = gv::with_cuts(p0, table);
+      auto seeds = random_seeds(rng, p, 3 + int(rng() % 3));
+      if (seeds.size() < 2) continue;
+      const auto q = seeds.back();
+      seeds.pop_back();
+      const auto d = gv::voronoi(GEOVORONOI_TEST_POLICY(), p, seeds);
+      const auto cell = gv::insert_query(GEOVORONOI_TEST_POLICY(), p, d, q);
+      auto with_q = seeds;
+      with_q.push_back(q);
+      const auto full = oracle(p, as_sources(p, with_q));
+      std::vector<gv::index_t> expect;
+      for (gv::index_t v = 0; v < g.size(); ++v)
+        if (full.distance[v] < d.distance[v]) expect.push_back(v);
+      CHECK(cell.voxel == expect);
+      for (std::size_t i = 0; i < cell.voxel.size() && i < expect.size(); ++i)
+        CHECK(bits(cell.distance[i]) == bits(full.distance[expect[i]]));
+      const auto src = as_sources(p, seeds);
+      const auto dense = oracle(p, src);
+      const float radius = 3.0f;
+      const auto sparse = gv::bounded_solve(GEOVORONOI_TEST_POLICY(), p, src, radius);
+      std::size_t i = 0;
+      for (gv::index_t v = 0; v < g.size(); ++v) {
+        if (!(dense.distance[v] < radius)) continue;
+        REQUIRE(i < sparse.size());
+        CHECK(sparse.voxel[i] == v);
+        CHECK(bits(sparse.distance[i]) == bits(dense.distance[v]));
+        CHECK(sparse.label[i] == dense.label[v]);
+        ++i;
+      }
+      CHECK(i == sparse.size());
+    }
+  };
+  run(std::integral_constant<int, 2>{}, std::integral_constant<int, 8>{}, 30);
+  run(std::integral_constant<int, 3>{}, std::integral_constant<int, 6>{}, 30);
+  run(std::integral_constant<int, 3>{}, std::integral_constant<int, 26>{}, 30);
 }
 
 TEST_CASE("backend " GEOVORONOI_TEST_BACKEND_NAME ": exact ties go to the lowest seed index") {

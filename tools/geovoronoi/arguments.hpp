@@ -13,9 +13,10 @@ namespace gvcli {
 /// Parsed command line: --name value pairs, flags without a value, and which were given.
 class arguments {
  public:
-  /// `flags` take no value; every other allowed option takes exactly one.
+  /// `flags` take no value; every other allowed option takes exactly one. Options in `repeatable`
+  /// (a subset of `with_value`) may be given several times: all() returns their values in order.
   arguments(const std::vector<std::string>& args, const std::set<std::string>& with_value,
-            const std::set<std::string>& flags) {
+            const std::set<std::string>& flags, const std::set<std::string>& repeatable = {}) {
     for (std::size_t i = 0; i < args.size(); ++i) {
       const std::string& a = args[i];
       std::string name = a, value;
@@ -31,14 +32,20 @@ class arguments {
           if (i + 1 >= args.size() || args[i + 1].rfind("--", 0) == 0) throw usage_error("option " + name + " needs a value");
           value = args[++i];
         }
-        if (values_.count(name)) throw usage_error("option " + name + " given twice");
+        if (values_.count(name) && !repeatable.count(name)) throw usage_error("option " + name + " given twice");
         values_[name] = value;
+        all_[name].push_back(value);
       } else {
         throw usage_error("unknown option '" + name + "'");
       }
     }
   }
   bool has(const std::string& n) const { return values_.count(n) != 0; }
+  /// Every value of option @p n, in the order given (empty when it was not given).
+  std::vector<std::string> all(const std::string& n) const {
+    const auto it = all_.find(n);
+    return it == all_.end() ? std::vector<std::string>{} : it->second;
+  }
   std::string get(const std::string& n, const std::string& fallback = {}) const {
     const auto it = values_.find(n);
     return it == values_.end() ? fallback : it->second;
@@ -60,6 +67,7 @@ class arguments {
 
  private:
   std::map<std::string, std::string> values_;
+  std::map<std::string, std::vector<std::string>> all_;
 };
 
 /// Whether the command's arguments ask for its help (`--help` or `-h` anywhere).

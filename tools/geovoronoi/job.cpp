@@ -6,6 +6,8 @@
 #include "seed_file.hpp"
 
 #include <geovoronoi/backend/choose.hpp>
+#include <geovoronoi/cut_from_mesh.hpp>
+#include <geovoronoi/io/mesh.hpp>
 #include <geovoronoi/io/read.hpp>
 #include <geovoronoi/precision.hpp>
 
@@ -108,11 +110,41 @@ gv::image<float, 3> to_float(const gv::image<double, 3>& f, const std::string& p
 
 std::set<std::string> solve_options(std::set<std::string> extra) {
   extra.insert({"--stiffness", "--seeds", "--metric", "--connectivity", "--backend", "--out", "--extrude", "--threads",
-                "--precision"});
+                "--precision", "--cut"});
   return extra;
 }
 
 std::set<std::string> solve_flags() { return {"--world"}; }
+
+std::set<std::string> solve_repeatable() { return {"--cut"}; }
+
+namespace {
+/// The cut edges of every `--cut MESH` (.stl or .obj, world coordinates) on grid @p g under
+/// connectivity @p n: one cut_set per mesh, merged, then the solvers' hash table.
+std::shared_ptr<const gv::cut_table> load_cuts(const std::vector<std::string>& paths, const gv::grid<3>& g, int n,
+                                               std::size_t& edges) {
+  std::shared_ptr<const gv::cut_table> table;
+  with_connectivity(n, [&](auto conn) {
+    gv::cut_set<3> all(g, conn);
+    for (const auto& path : paths) {
+      const std::string ext = lower_extension(path);
+      if (ext != ".stl" && ext != ".obj") throw usage_error(path + ": --cut takes a .stl or .obj mesh");
+      require_regular_file(path, "a cut mesh");
+      const auto mesh = gio::read_mesh(path);
+      try {
+        all.merge(gv::cut_from_mesh(g, conn, mesh));
+      } catch (const std::invalid_argument& e) {
+        std::string m = e.what();
+        if (m.compare(0, 12, "geovoronoi: ") == 0) m.erase(0, 12);
+        throw usage_error(path + ": " + m);
+      }
+    }
+    edges = all.size();
+    table = std::make_shared<const gv::cut_table>(all);
+  });
+  return table;
+}
+}  // namespace
 
 job load_job(const arguments& a) {
   job j;
@@ -153,6 +185,8 @@ job load_job(const arguments& a) {
     j.field_double = {};
   }
   const auto& g = j.geometry();
+  j.cut_paths = a.all("--cut");
+  if (!j.cut_paths.empty()) j.cuts = load_cuts(j.cut_paths, g, j.connectivity, j.cut_edges);
   const bool world = a.has("--world");
   for (const auto& r : read_seed_rows(j.seeds_path, !world)) {
     const std::string where = j.seeds_path + ":" + std::to_string(r.line) + ": seed ";
@@ -227,7 +261,9 @@ int solve_and_write(const char* command, const arguments& a, const std::function
   bar.update("reading");
   const job j = load_job(a);
   if (check) check(j);
-  output_dir out(j.out, {j.stiffness_path, j.seeds_path}, std::string("geovoronoi ") + command);
+  std::vector<std::string> inputs{j.stiffness_path, j.seeds_path};
+  inputs.insert(inputs.end(), j.cut_paths.begin(), j.cut_paths.end());
+  output_dir out(j.out, inputs, std::string("geovoronoi ") + command);
   if (j.in_double)
     diagram_and_outputs<double>(j, out, bar, more_double);
   else

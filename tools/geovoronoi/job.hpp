@@ -10,6 +10,7 @@
 #include "solve.hpp"
 
 #include <functional>
+#include <memory>
 #include <set>
 #include <string>
 #include <type_traits>
@@ -31,6 +32,10 @@ struct job {
   gv::image<double, 3> field_double;
   std::vector<gv::coord<3>> seeds;
   std::vector<int> seed_lines;  ///< the seed file's line of each seed
+  /// `--cut MESH` files, in order, and the cut edges of all of them (null without --cut).
+  std::vector<std::string> cut_paths;
+  std::shared_ptr<const gv::cut_table> cuts;
+  std::size_t cut_edges = 0;
 
   const gv::grid<3>& geometry() const noexcept { return in_double ? field_double.geometry() : field.geometry(); }
   const char* precision_name() const noexcept { return in_double ? "double" : "float"; }
@@ -43,7 +48,7 @@ struct job {
   }
   template <class T>
   problem_spec<T> spec() const {
-    return {field_in<T>(), seeds, metric, connectivity, threads};
+    return {field_in<T>(), seeds, metric, connectivity, threads, nullptr, cuts.get()};
   }
   /// How its pictures are titled (metric, neighbours; lengths in the volume's unit).
   picture_context pictures() const { return {metric, "LENGTH", connectivity}; }
@@ -53,6 +58,8 @@ struct job {
 std::set<std::string> solve_options(std::set<std::string> extra = {});
 /// The flags (options without a value) of voronoi and shape-functions.
 std::set<std::string> solve_flags();
+/// The options of voronoi and shape-functions that may be repeated (--cut).
+std::set<std::string> solve_repeatable();
 
 job load_job(const arguments& a);
 

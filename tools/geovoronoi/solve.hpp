@@ -53,13 +53,23 @@ struct problem_spec {
   unsigned threads = 0;
   /// The diagram's progress (solve_options::progress); may be empty.
   std::function<bool(double)> progress = nullptr;
+  /// The cut edges of `--cut` (built for this grid and connectivity), or null without cuts.
+  const gv::cut_table* cuts = nullptr;
 };
 
-/// Calls f(problem) with the library's problem object for @p s.
+/// Calls f(problem) with the library's problem object for @p s: a problem with cuts (one type per
+/// metric and connectivity: the cut_view does not depend on either) when @p s has cuts, else the
+/// plain problem, which keeps the no-cut path and the shape functions' shortcuts as they are.
 template <class T, class F>
 void with_problem(const problem_spec<T>& s, F&& f) {
   with_metric(s.metric, [&](auto metric) {
-    with_connectivity(s.connectivity, [&](auto conn) { f(gv::make_problem(s.field.geometry(), s.field, metric, conn)); });
+    with_connectivity(s.connectivity, [&](auto conn) {
+      const auto p = gv::make_problem(s.field.geometry(), s.field, metric, conn);
+      if (s.cuts)
+        f(gv::with_cuts(p, *s.cuts));
+      else
+        f(p);
+    });
   });
 }
 

@@ -5,6 +5,7 @@
 // all use it.
 
 #include <geovoronoi/config.hpp>
+#include <geovoronoi/cut.hpp>
 
 #include <cstdint>
 
@@ -28,7 +29,8 @@ struct stencil_walker {
     static_assert(P::dim == Dim, "stencil_walker: the problem's dimension differs from the walker's");
   }
 
-  /// Calls f(k, u) for each neighbour u = v + offset k of @p p's stencil that lies inside the grid.
+  /// Calls f(k, u) for each neighbour u = v + offset k of @p p's stencil that lies inside the grid
+  /// and whose edge to @p v is not cut (for a problem with cuts; without, the cut test compiles away).
   template <class P, class F>
   GEOVORONOI_HOST_DEVICE void for_each_neighbour(const P& p, index_t v, F&& f) const {
     index_t x, y, z;
@@ -43,6 +45,18 @@ struct stencil_walker {
       x = r - y * nx;
     }
     const bool interior = x > 0 && x < nx - 1 && y > 0 && y < ny - 1 && (Dim == 2 || (z > 0 && z < nz - 1));
+    if constexpr (P::has_cuts) {
+      // one probe of the cut table; a voxel that touches no cut takes the usual paths below
+      if (const cut_mask_t cut = p.cut_mask(v)) {
+        for (int k = 0; k < P::neighbours; ++k) {
+          if ((cut >> k) & 1u) continue;
+          const index_t xx = x + p.edges.offset[k][0], yy = y + p.edges.offset[k][1], zz = z + p.edges.offset[k][2];
+          if (!interior && (xx < 0 || xx >= nx || yy < 0 || yy >= ny || zz < 0 || zz >= nz)) continue;
+          f(k, v + p.edges.delta[k]);
+        }
+        return;
+      }
+    }
     if (interior) {
       for (int k = 0; k < P::neighbours; ++k) f(k, v + p.edges.delta[k]);
     } else {

@@ -102,7 +102,8 @@ void warn_if_long(const Fns& fns, const Spec& spec, const gv::diagram<T, 3>& d, 
 }
 
 int run(const std::vector<std::string>& args) {
-  const arguments a(args, solve_options({"--method", "--nodes-per-voxel", "--picture-node", "--at"}), solve_flags());
+  const arguments a(args, solve_options({"--method", "--nodes-per-voxel", "--picture-node", "--at"}), solve_flags(),
+                    solve_repeatable());
   const auto method = parse_method(a.require("--method"));
   const int k = int(a.integer("--nodes-per-voxel", 4, 1, 64));
   const int picture_node = int(a.integer("--picture-node", 0, 0, 1 << 30));
@@ -164,7 +165,7 @@ const command shape_functions_command = {
     "  --connectivity N (default: 26), --backend B (default: the fastest built one that runs here),\n"
     "  --threads N (default: OMP_NUM_THREADS), --precision P (default: float; double computes\n"
     "  and writes the distance and the weights in double),\n"
-    "  --world, --extrude N (default: 1), --help\n"
+    "  --world, --extrude N (default: 1), --cut MESH (repeatable; no path crosses the cut), --help\n"
     "\n"
     "writes, in DIR: the files of `geovoronoi voronoi`, and\n"
     "  indices.mhd/.raw    K interleaved channels (ITK, ParaView, Slicer): node index + 1, 0 for an\n"

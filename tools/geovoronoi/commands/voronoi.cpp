@@ -7,7 +7,7 @@ namespace gvcli {
 namespace {
 
 int run(const std::vector<std::string>& args) {
-  const arguments a(args, solve_options(), solve_flags());
+  const arguments a(args, solve_options(), solve_flags(), solve_repeatable());
   return solve_and_write("voronoi", a, nullptr, nullptr, nullptr);
 }
 
@@ -36,6 +36,8 @@ const command voronoi_command = {
     "  --world             seeds are physical x,y,z coordinates, rounded to the nearest voxel centre\n"
     "                      (default: voxel indices)\n"
     "  --extrude N         repeat a .pgm/.ppm picture into N slices along z (default: 1)\n"
+    "  --cut MESH          a cut surface, .stl or .obj in world coordinates: the grid edges it meets\n"
+    "                      are removed (no path crosses it); repeatable (default: no cut)\n"
     "  --precision P       float, double or auto: the type distances (and weights) are computed and\n"
     "                      written in; auto takes double only when the field could overflow float or\n"
     "                      holds a value float cannot (default: float)\n"

@@ -112,11 +112,15 @@ std::vector<face<P::dim>> faces_of(const P& p) {
   return out;
 }
 
-/// Whether the neighbour of voxel coordinates @p c across face @p f lies inside the grid.
+/// Whether the neighbour of voxel @p v (coordinates @p c) across face @p f lies inside the grid and
+/// the edge to it is not cut: a cut face joins no two cells (no path crosses it), so it is neither a
+/// Laplace facet nor a Distance Ratio frontier.
 template <class P, class C>
-bool face_in_grid(const P& p, const C& c, const face<P::dim>& f) noexcept {
+bool face_in_grid(const P& p, index_t v, const C& c, const face<P::dim>& f) noexcept {
   const index_t x = c[f.axis] + f.dir;
-  return x >= 0 && x < p.geometry.extent(f.axis);
+  if (!(x >= 0 && x < p.geometry.extent(f.axis))) return false;
+  if constexpr (P::has_cuts) return !((p.cut_mask(v) >> f.edge) & 1u);
+  return true;
 }
 
 template <class P, class D, class Options>

@@ -89,7 +89,7 @@ void distance_ratio(const Policy& policy, const P& p, const D& d, const Options&
         dmax = std::max(dmax, dist[x]);
         const auto c = p.geometry.coords(x);
         for (const auto& f : faces) {
-          if (!face_in_grid(p, c, f)) continue;
+          if (!face_in_grid(p, x, c, f)) continue;
           const index_t y = x + f.delta;
           if (lab[y] != no_label && lab[y] != i) dmax = std::max(dmax, dist[y]);
         }
@@ -114,7 +114,7 @@ void distance_ratio(const Policy& policy, const P& p, const D& d, const Options&
         const index_t x = cell[j];
         const auto c = p.geometry.coords(x);
         for (const auto& f : faces) {
-          if (!face_in_grid(p, c, f)) continue;
+          if (!face_in_grid(p, x, c, f)) continue;
           const index_t y = x + f.delta;
           if (lab[y] == no_label || lab[y] == i) continue;
           const T diy = di_at(y);

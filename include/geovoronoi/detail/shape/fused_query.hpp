@@ -197,7 +197,7 @@ class fused_query {
       const T fv = p_.field[v];
       const T dq = key[v].key;
       for (const auto& f : faces) {
-        if (!face_in_grid(p_, c, f)) continue;
+        if (!face_in_grid(p_, v, c, f)) continue;
         const index_t w = v + f.delta;
         if (!p_.inside(w)) continue;
         const label_t k = lab_[w];

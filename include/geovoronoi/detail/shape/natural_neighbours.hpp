@@ -97,7 +97,7 @@ bool accumulate_cell(const P& p, const D& d, const std::vector<face<P::dim>>& fa
     const auto c = p.geometry.coords(v);
     const T fv = p.field[v];
     for (const auto& f : faces) {
-      if (!face_in_grid(p, c, f)) continue;
+      if (!face_in_grid(p, v, c, f)) continue;
       const index_t w = v + f.delta;
       if (!p.inside(w)) continue;
       const label_t k = lab[w];

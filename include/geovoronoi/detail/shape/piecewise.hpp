@@ -66,6 +66,8 @@ class piecewise_tables {
 
   template <class Policy>
   piecewise_tables(const Policy& policy, const P& p) {
+    // a cut breaks the constant-region balls (a ball may cross a cut): none with cuts, so empty()
+    if constexpr (P::has_cuts) return;
     constexpr int Dim = P::dim;
     using M = typename P::metric_type;
     const index_t n = p.geometry.size();

@@ -50,6 +50,8 @@ template <class P>
 bool translation_invariant(const P& p) {
   using T = typename P::value_type;
   using M = typename P::metric_type;
+  // a cut breaks the translation invariance (a ball's shape depends on where the cut is)
+  if constexpr (P::has_cuts) return false;
   const index_t n = p.geometry.size();
   if (n == 0) return false;
   const T f0 = p.field[0];

@@ -29,14 +29,28 @@ tiling tiling_of(const P& p) {
   return make_tiling<P::dim>(g.extent(0), g.extent(1), P::dim == 3 ? g.extent(P::dim - 1) : 1);
 }
 
-/// The problem's field on the device, and a copy of the problem that points at it.
+/// The problem's field (and cut table, if it has one) on the device, and a copy of the problem that
+/// points at them.
 template <class P>
 struct device_problem {
   device_buffer<T_of<P>> field;
+  device_buffer<index_t> cut_keys;
+  device_buffer<cut_mask_t> cut_masks;
   P view;
   device_problem(const P& p, cudaStream_t s) : field(std::size_t(p.geometry.size())), view(p) {
     field.upload(p.field, field.size(), s);
     view.field = field.data();
+    if constexpr (P::has_cuts) {
+      const std::size_t cap = std::size_t(p.cuts.capacity);
+      if (cap > 0) {
+        cut_keys = device_buffer<index_t>(cap);
+        cut_masks = device_buffer<cut_mask_t>(cap);
+        cut_keys.upload(p.cuts.keys, cap, s);
+        cut_masks.upload(p.cuts.masks, cap, s);
+        view.cuts.keys = cut_keys.data();
+        view.cuts.masks = cut_masks.data();
+      }
+    }
   }
 };
 

@@ -9,6 +9,7 @@
 // Shared-memory arrays are plain pointers here; the kernels supply the barriers between steps.
 
 #include <geovoronoi/backend/cuda/detail/tiling.hpp>
+#include <geovoronoi/cut.hpp>
 #include <geovoronoi/metric.hpp>
 
 #include <cstdint>
@@ -172,10 +173,12 @@ GEOVORONOI_HOST_DEVICE inline uint64_t pull(const P& p, const Rule& rule, const 
   const int me = halo_slot<Dim>(lx, ly, lz);
   uint64_t best = sw[me];
   const T fv = sf[me];
+  const cut_mask_t cut = p.cut_mask(v);  // 0 (a constant) for a problem without cuts
 #ifdef __CUDA_ARCH__
 #pragma unroll
 #endif
   for (int k = 0; k < P::neighbours; ++k) {
+    if ((cut >> k) & 1u) continue;
     const int s = halo_slot<Dim>(lx + p.edges.offset[k][0], ly + p.edges.offset[k][1], lz + p.edges.offset[k][2]);
     const uint64_t su = sw[s];
     if (su == unreached) continue;
@@ -201,10 +204,12 @@ GEOVORONOI_HOST_DEVICE inline uint64_t push_candidate(const P& p, const Rule& ru
   const int hs = halo_slot<Dim>(lx, ly, lz);
   const T fh = sf[hs];
   uint64_t best = sw[hs];
+  const cut_mask_t cut = p.cut_mask(h);
 #ifdef __CUDA_ARCH__
 #pragma unroll
 #endif
   for (int k = 0; k < P::neighbours; ++k) {
+    if ((cut >> k) & 1u) continue;
     const int ux = lx + p.edges.offset[k][0], uy = ly + p.edges.offset[k][1], uz = lz + p.edges.offset[k][2];
     if (is_halo<Dim>(ux, uy, uz)) continue;
     const int s = halo_slot<Dim>(ux, uy, uz);
@@ -233,7 +238,9 @@ GEOVORONOI_HOST_DEVICE inline std::uint32_t realising_label(const P& p, const ti
   const index_t x = v % t.nx, r = v / t.nx, y = r % t.ny, z = r / t.ny;
   const T fv = p.field[v];
   std::uint32_t best = current;
+  const cut_mask_t cut = p.cut_mask(v);
   for (int k = 0; k < P::neighbours; ++k) {
+    if ((cut >> k) & 1u) continue;
     const index_t ux = x + p.edges.offset[k][0], uy = y + p.edges.offset[k][1], uz = z + p.edges.offset[k][2];
     if (!t.in_grid(ux, uy, uz)) continue;
     const index_t u = v + p.edges.delta[k];
@@ -286,7 +293,9 @@ GEOVORONOI_HOST_DEVICE inline uint64_t box_pull(const P& p, const tiling& t, con
   if (!in_domain<P>(fv)) return current;
   const T dold = old[v];
   uint64_t best = current;
+  const cut_mask_t cut = p.cut_mask(v);
   for (int k = 0; k < P::neighbours; ++k) {
+    if ((cut >> k) & 1u) continue;
     const int ux = bx + p.edges.offset[k][0], uy = by + p.edges.offset[k][1], uz = bz + p.edges.offset[k][2];
     if (ux < 0 || ux >= lx || uy < 0 || uy >= ly || uz < 0 || uz >= lz) continue;
     const uint64_t su = sw[ux + lx * (uy + ly * uz)];
