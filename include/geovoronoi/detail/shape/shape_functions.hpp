@@ -46,6 +46,9 @@ Eigen::SparseMatrix<T, Eigen::RowMajor> slots_to_sparse(std::size_t rows, int k,
     throw std::invalid_argument(std::string(who) + ": node/weight arrays do not hold rows * k entries");
   check_slots(node, k, nodes, who);
   Eigen::SparseMatrix<T, Eigen::RowMajor> m(static_cast<index>(rows), static_cast<index>(nodes));
+  // no rows (an empty list of points): already compressed; Eigen's reserve/makeCompressed read
+  // outer index 1, which a 0-row matrix does not have
+  if (rows == 0) return m;
   Eigen::Matrix<index, Eigen::Dynamic, 1> per_row(static_cast<index>(rows));
   for (std::size_t v = 0; v < rows; ++v) {
     index c = 0;
