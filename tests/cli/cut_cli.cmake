@@ -2,35 +2,7 @@
 # as `cmake -P`:
 #   -DGEOVORONOI=<path of the binary> -DWORK=<scratch folder> [-DBUILT=seq,thrust,cuda]
 cmake_minimum_required(VERSION 3.20)
-if(NOT GEOVORONOI OR NOT WORK)
-  message(FATAL_ERROR "usage: cmake -DGEOVORONOI=<binary> -DWORK=<dir> -P cut_cli.cmake")
-endif()
-if(NOT BUILT)
-  set(BUILT seq)
-endif()
-string(REPLACE "," ";" BUILT "${BUILT}")
-file(REMOVE_RECURSE ${WORK})
-file(MAKE_DIRECTORY ${WORK})
-
-# run(<name> <expected exit code> args...): sets ERR_<name>
-function(run name expect)
-  execute_process(COMMAND ${GEOVORONOI} ${ARGN} WORKING_DIRECTORY ${WORK}
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 120)
-  set(ERR_${name} "${err}" PARENT_SCOPE)
-  if(NOT rc STREQUAL "${expect}")
-    message(SEND_ERROR "FAIL: ${name}: exit code ${rc}, expected ${expect}\nstdout: ${out}\nstderr: ${err}")
-  endif()
-endfunction()
-
-# one_line(<name> <needle>): ERR_<name> is exactly one line and contains needle
-function(one_line name needle)
-  string(STRIP "${ERR_${name}}" e)
-  string(FIND "${e}" "\n" nl)
-  string(FIND "${e}" "${needle}" hit)
-  if(e STREQUAL "" OR NOT nl EQUAL -1 OR hit EQUAL -1)
-    message(SEND_ERROR "FAIL: ${name}: expected one stderr line containing '${needle}', got: ${ERR_${name}}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/common.cmake)
 
 # unreached(<dir> <expect TRUE/FALSE>): whether label.raw holds a -1
 function(unreached dir expect)
