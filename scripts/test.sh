@@ -18,7 +18,8 @@
 # - the sanitizer build has only the tests that run: no benchmarks, no CUDA units, no tool, no
 #   examples, no compile-only header checks (all of those were built and run in the release stage),
 #   compiled by clang at -O1 with line tables only (-g1), what AddressSanitizer recommends: on
-#   tests/voronoi.test.cpp GCC takes 130 s at -O2 -g with ASan + UBSan, 64 s at -O1 -g1, clang 39 s.
+#   tests/voronoi.test.cpp GCC takes 130 s CPU at -O2 -g with ASan + UBSan, 64 s at -O1 -g1, clang 39 s
+#   (2-core AMD EPYC development VM, 2026-12-01, under load; the ratios are what matter).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
