@@ -81,6 +81,9 @@ class Diagram:
         The seeds as array indices (world points rounded to the nearest voxel with ``world=True``).
     spacing, origin : tuple of float
         The grid's voxel size and the world position of voxel 0, in array-axis order.
+    orientation : ndarray, shape (ndim, ndim)
+        The grid's direction matrix in array-axis order (rows: world axes, columns: array axes), as
+        :func:`read_image` returns it; the identity unless ``voronoi`` was given one.
     metric : str
     connectivity : int
 
@@ -88,10 +91,11 @@ class Diagram:
     as long as any of them is referenced.
     """
 
-    __slots__ = ("distance", "label", "parent", "seeds", "spacing", "origin", "metric", "connectivity",
-                 "_handle", "_mask")
+    __slots__ = ("distance", "label", "parent", "seeds", "spacing", "origin", "orientation", "metric",
+                 "connectivity", "_handle", "_mask")
 
-    def __init__(self, handle, distance, label, parent, seeds, spacing, origin, metric, connectivity, mask):
+    def __init__(self, handle, distance, label, parent, seeds, spacing, origin, metric, connectivity, mask,
+                 orientation=None):
         self._handle = handle
         self.distance = distance
         self.label = label
@@ -99,6 +103,7 @@ class Diagram:
         self.seeds = seeds
         self.spacing = spacing
         self.origin = origin
+        self.orientation = np.eye(len(spacing)) if orientation is None else orientation
         self.metric = metric
         self.connectivity = connectivity
         self._mask = mask
@@ -171,6 +176,26 @@ def _check_origin(origin: Tuple[float, ...]) -> None:
             raise ValueError(f"geovoronoi: origin[{i}] is {o}; the origin must be finite")
 
 
+def _orientation(orientation: Any, ndim: int) -> np.ndarray:
+    """The (ndim, ndim) direction matrix in array-axis order (identity when None), checked like the
+    library's grids: finite, and orthonormal within 1e-6 (so world-to-index uses the transpose)."""
+    if orientation is None:
+        return np.eye(ndim)
+    d = np.asarray(orientation)
+    if d.dtype == object or d.dtype.kind not in "biuf":
+        raise TypeError(f"geovoronoi: orientation must be a numeric ({ndim}, {ndim}) matrix, got dtype {d.dtype}")
+    d = d.astype(np.float64)
+    if d.shape != (ndim, ndim):
+        raise ValueError(f"geovoronoi: orientation must be a ({ndim}, {ndim}) matrix, got shape {d.shape}")
+    if not np.all(np.isfinite(d)):
+        raise ValueError(f"geovoronoi: the orientation {d.tolist()} has an entry that is not finite")
+    worst = float(np.max(np.abs(d.T @ d - np.eye(ndim))))
+    if not worst <= 1e-6:
+        raise ValueError(f"geovoronoi: the orientation {d.tolist()} is not orthonormal (largest entry of "
+                         f"D^T D - I is {worst:g}, tolerance 1e-06)")
+    return d
+
+
 def _metric(metric: Any) -> str:
     if not isinstance(metric, str):
         raise TypeError(f"geovoronoi: metric must be a string ({', '.join(METRICS)}), got {metric!r}")
@@ -219,7 +244,8 @@ def _inside(values: np.ndarray, metric: str) -> np.ndarray:
     return values > 0  # NaN compares false
 
 
-def _points(points: Any, ndim: int, world: bool, spacing, origin, shape, what: str) -> np.ndarray:
+def _points(points: Any, ndim: int, world: bool, spacing, origin, shape, what: str,
+            orientation: Optional[np.ndarray] = None) -> np.ndarray:
     """(n, ndim) int64 array indices of seeds or query points, bounds-checked."""
     p = np.asarray(points)
     if p.dtype == object or p.dtype.kind not in "biuf":
@@ -235,14 +261,23 @@ def _points(points: Any, ndim: int, world: bool, spacing, origin, shape, what: s
         x = p.astype(np.float64)
         if not np.all(np.isfinite(x)):
             raise ValueError(f"geovoronoi: {what} contain a non-finite world coordinate")
-        # nearest voxel centre, the library's rule: floor((x - origin) / spacing + 0.5)
-        idx = np.floor((x - np.asarray(origin)) / np.asarray(spacing) + 0.5)
+        # nearest voxel centre, the library's rule (grid::nearest_voxel): per index axis a,
+        # floor((D^T (x - origin))_a / spacing_a + 0.5), summed in the library's axis order (x first)
+        # and skipping zero entries, so the rounding is the C++ tool's bit for bit
+        d = np.eye(ndim) if orientation is None else orientation
+        rel = x - np.asarray(origin)
+        u = np.zeros_like(x)
+        for a in range(ndim):
+            for r in reversed(range(ndim)):
+                if d[r, a] != 0.0:
+                    u[:, a] = u[:, a] + d[r, a] * rel[:, r]
+        idx = np.floor(u / np.asarray(spacing) + 0.5)
         bad = ~np.all((idx >= 0) & (idx < np.asarray(shape)), axis=1)
         if np.any(bad):
             i = int(np.flatnonzero(bad)[0])
             raise ValueError(f"geovoronoi: {what[:-1]} {i} at world point {tuple(x[i])} lies outside the grid "
                              f"(nearest voxel {tuple(int(v) for v in idx[i])}, shape {tuple(shape)})")
-        return idx.astype(np.int64)
+        return np.ascontiguousarray(idx, dtype=np.int64)
     if p.dtype.kind in "fb":
         raise TypeError(f"geovoronoi: {what} must be integer array indices, got dtype {p.dtype} "
                         "(pass world=True for physical coordinates)")
@@ -276,7 +311,8 @@ def _check_seeds(field: np.ndarray, seeds: np.ndarray, metric: str) -> None:
 # ---- solvers ---------------------------------------------------------------------------------------
 
 
-def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, metric: str = "min_stiffness",
+def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, orientation: Any = None,
+            metric: str = "min_stiffness",
             connectivity: Optional[int] = None, mask: Any = None, world: bool = False, backend: str = "auto",
             threads: Optional[int] = None, progress: Optional[Callable[[float], Any]] = None,
             parent: bool = False) -> Diagram:
@@ -298,6 +334,10 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
         Physical voxel size per array axis (default 1).
     origin : sequence, optional
         World position of voxel 0's centre, per array axis (default 0).
+    orientation : array_like, shape (ndim, ndim), optional
+        Direction matrix in array-axis order, as :func:`read_image` returns it (default identity):
+        world = origin + orientation @ (index * spacing). Only world seeds (``world=True``) and the
+        outputs' geometry depend on it; it must be orthonormal within 1e-6.
     metric : {"min_stiffness", "mean_stiffness", "mean_cost", "uniform"}
     connectivity : int, optional
         4 or 8 in 2D, 6, 18 or 26 in 3D; default the largest.
@@ -339,6 +379,7 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
     _check_spacing(sp)
     org = _axis_tuple(origin, ndim, "origin", 0.0)
     _check_origin(org)
+    orient = _orientation(orientation, ndim)
     m = _metric(metric)
     conn = _connectivity(connectivity, ndim)
     b = _backend(backend)
@@ -348,18 +389,19 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
     if mask is not None:
         f = _apply_mask(f, mask)
         mask_array = np.asarray(mask)
-    s = _points(seeds, ndim, bool(world), sp, org, f.shape, "seeds")
+    s = _points(seeds, ndim, bool(world), sp, org, f.shape, "seeds", orient)
     _check_seeds(f, s, m)
     handle, distance, label, par, seed_idx = _ext._voronoi(f, list(sp), list(org), m, conn, b, nthreads, s, False,
                                                            bool(parent), cb)
-    return Diagram(handle, distance, label, par, seed_idx, sp, org, m, conn, mask_array)
+    return Diagram(handle, distance, label, par, seed_idx, sp, org, m, conn, mask_array, orient)
 
 
 def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 4, points: Any = None,
-                    world: bool = False, spacing: Any = None, origin: Any = None, metric: Optional[str] = None,
-                    connectivity: Optional[int] = None, mask: Any = None, backend: str = "auto",
-                    threads: Optional[int] = None, progress: Optional[Callable[[float], Any]] = None,
-                    fixed_k: bool = False, batch_size: int = 4096):
+                    world: bool = False, spacing: Any = None, origin: Any = None, orientation: Any = None,
+                    metric: Optional[str] = None, connectivity: Optional[int] = None, mask: Any = None,
+                    backend: str = "auto", threads: Optional[int] = None,
+                    progress: Optional[Callable[[float], Any]] = None, fixed_k: bool = False,
+                    batch_size: int = 4096):
     """Voronoi shape functions of the nodes (the seeds) at every voxel, or at ``points``.
 
     Parameters
@@ -368,7 +410,7 @@ def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 
         The field, as for :func:`voronoi` (with a diagram: the field it was computed on).
     seeds_or_diagram : array_like or Diagram
         The nodes: seeds as for :func:`voronoi` (the diagram is computed first, with the same
-        options), or a :class:`Diagram` (then ``spacing``, ``origin``, ``metric``,
+        options), or a :class:`Diagram` (then ``spacing``, ``origin``, ``orientation``, ``metric``,
         ``connectivity`` and ``mask`` default to, and must equal, the diagram's).
     method : {"distance_ratio", "sibson", "laplace"}
         Distance Ratio (SOFA's default), Sibson (natural-neighbour) or Laplace (non-Sibsonian); see
@@ -377,8 +419,10 @@ def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 
         Most nodes kept per voxel (SOFA's nbRef); the smallest weights are dropped and the rest
         renormalised.
     points : array_like, shape (m, ndim), optional
-        Only these voxels (array indices, or world points with ``world=True``): row i of the result
-        is point i. Computed from the full weights (see docs/python.md).
+        Only these voxels (array indices, or world points with ``world=True``, rounded to the
+        nearest voxel centre through ``orientation``): row i of the result is point i. Only those
+        rows are computed (the library's ``shape_functions_at``), bitwise equal to the same rows of
+        the full computation.
     metric : str, optional
         Default ``"min_stiffness"`` (with seeds) or the diagram's.
     fixed_k : bool
@@ -427,6 +471,8 @@ def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 
         for name, given, own in (("spacing", spacing, d.spacing), ("origin", origin, d.origin)):
             if given is not None and _axis_tuple(given, ndim, name, 0.0) != own:
                 raise ValueError(f"geovoronoi: {name} differs from the diagram's {own}")
+        if orientation is not None and not np.array_equal(_orientation(orientation, ndim), d.orientation):
+            raise ValueError(f"geovoronoi: orientation differs from the diagram's {d.orientation.tolist()}")
         if metric is not None and _metric(metric) != d.metric:
             raise ValueError(f"geovoronoi: metric {metric!r} differs from the diagram's {d.metric!r}")
         if connectivity is not None and _connectivity(connectivity, ndim) != d.connectivity:
@@ -436,14 +482,14 @@ def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 
         if d._mask is not None:
             f = _apply_mask(f, d._mask)
     else:
-        d = voronoi(f, seeds_or_diagram, spacing=spacing, origin=origin,
+        d = voronoi(f, seeds_or_diagram, spacing=spacing, origin=origin, orientation=orientation,
                     metric="min_stiffness" if metric is None else metric, connectivity=connectivity, mask=mask,
                     world=world, backend=backend, threads=threads)
         if d._mask is not None:
             f = _apply_mask(f, d._mask)
     qp = None
     if points is not None:
-        qp = _points(points, ndim, bool(world), d.spacing, d.origin, f.shape, "points")
+        qp = _points(points, ndim, bool(world), d.spacing, d.origin, f.shape, "points", d.orientation)
     data, indices, indptr, nodes, fixed_idx, fixed_w = _ext._shape_functions(
         f, list(d.spacing), list(d.origin), d.metric, d.connectivity, _backend(backend), _threads(threads),
         d._handle, method, int(k), int(batch_size), cb, None if qp is None else np.ascontiguousarray(qp, np.int64))
@@ -567,12 +613,13 @@ def write_image(path: Union[str, os.PathLike], array: Any, spacing: Any = None, 
 
 
 def write_vti(path: Union[str, os.PathLike], arrays: Mapping[str, Any], spacing: Any = None, origin: Any = None,
-              *, ndim: Optional[int] = None) -> None:
+              orientation: Any = None, *, ndim: Optional[int] = None) -> None:
     """Write arrays on one grid as a VTK XML ImageData file (``.vti``, ParaView).
 
     ``arrays`` maps names to arrays of the grid's shape (``[z, y, x]`` or ``[y, x]``), optionally
     with a trailing component axis; the first is the active scalar. The grid's dimension is that of
-    the first array unless ``ndim`` says otherwise. A :class:`Diagram` can be written with
+    the first array unless ``ndim`` says otherwise. ``orientation`` (array-axis order, as
+    :func:`read_image` returns it) becomes the file's ``Direction``. A :class:`Diagram` can be written with
     ``{"label": d.label, "distance": d.distance}``.
     """
     if not arrays:
@@ -589,4 +636,5 @@ def write_vti(path: Union[str, os.PathLike], arrays: Mapping[str, Any], spacing:
     _check_spacing(sp)
     org = _axis_tuple(origin, nd, "origin", 0.0)
     _check_origin(org)
-    _ext._write_vti(os.fspath(path), items, list(shape), list(sp), list(org))
+    orient = _orientation(orientation, nd)
+    _ext._write_vti(os.fspath(path), items, list(shape), list(sp), list(org), [float(x) for x in orient.ravel()])

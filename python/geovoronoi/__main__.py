@@ -74,7 +74,7 @@ def _load(args):
     ext = os.path.splitext(args.stiffness)[1].lower()
     if ext not in (".mhd", ".mha"):
         raise _UsageError(f"{args.stiffness}: python -m geovoronoi reads MetaImage (.mhd/.mha) only")
-    arr, spacing, origin, _ = gv.read_image(args.stiffness)
+    arr, spacing, origin, orientation = gv.read_image(args.stiffness)
     if arr.ndim == 4 or (arr.ndim == 3 and len(spacing) == 2):
         raise _UsageError(f"{args.stiffness}: has several channels; a stiffness image needs 1")
     # The C++ tool reads the volume as float32 and treats 2D images as one slice of a 3D volume.
@@ -82,13 +82,17 @@ def _load(args):
     if field.ndim == 2:
         field = field[np.newaxis]
         spacing, origin = (1.0,) + tuple(spacing), (0.0,) + tuple(origin)
+        # one slice of a 3D volume: the slice axis keeps its own direction (the C++ tool's rule)
+        o3 = np.eye(3)
+        o3[1:, 1:] = orientation
+        orientation = o3
     if field.ndim != 3:
         raise _UsageError(f"{args.stiffness}: expected a 2D or 3D image")
     xyz = _read_seeds(args.seeds, args.world, field.shape[::-1])
     seeds = xyz[:, ::-1]  # x, y, z -> array order z, y, x
     if not args.world:
         seeds = seeds.astype(np.int64)
-    return field, tuple(spacing), tuple(origin), seeds
+    return field, tuple(spacing), tuple(origin), np.asarray(orientation, dtype=np.float64), seeds
 
 
 def _common(p):
@@ -101,26 +105,26 @@ def _common(p):
     p.add_argument("--out", required=True)
 
 
-def _write_voronoi(out, d, field, spacing, origin):
-    gv.write_image(os.path.join(out, "distance.mhd"), d.distance, spacing, origin)
-    gv.write_image(os.path.join(out, "label.mhd"), d.label, spacing, origin)
+def _write_voronoi(out, d, field, spacing, origin, orientation):
+    gv.write_image(os.path.join(out, "distance.mhd"), d.distance, spacing, origin, orientation)
+    gv.write_image(os.path.join(out, "label.mhd"), d.label, spacing, origin, orientation)
     gv.write_vti(os.path.join(out, "voronoi.vti"), {"label": d.label, "distance": d.distance, "stiffness": field},
-                 spacing, origin)
+                 spacing, origin, orientation)
 
 
-def _write_shape(out, w, idx, wt, label, spacing, origin):
+def _write_shape(out, w, idx, wt, label, spacing, origin, orientation):
     # The CLI's files: node index + 1 (0: none) as uint32 and weights as float32, K channels
     # interleaved (what MetaImage readers expect) and, for SOFA, planar; ParaView's weights.vti
     nodes = np.where(idx >= 0, idx + 1, 0).astype(np.uint32)
     weights = np.where(idx >= 0, wt, 0).astype(np.float32)
     for suffix, planar in (("_sofa_planar", True), ("", False)):
-        gv.write_image(os.path.join(out, f"indices{suffix}.mhd"), nodes, spacing, origin, channels=True,
-                       planar=planar)
-        gv.write_image(os.path.join(out, f"weights{suffix}.mhd"), weights, spacing, origin, channels=True,
-                       planar=planar)
+        gv.write_image(os.path.join(out, f"indices{suffix}.mhd"), nodes, spacing, origin, orientation,
+                       channels=True, planar=planar)
+        gv.write_image(os.path.join(out, f"weights{suffix}.mhd"), weights, spacing, origin, orientation,
+                       channels=True, planar=planar)
     gv.write_vti(os.path.join(out, "weights.vti"),
                  {"label": label, "weights": weights, "nodes": np.where(idx >= 0, idx, -1).astype(np.int32)},
-                 spacing, origin)
+                 spacing, origin, orientation)
     w = w.astype(np.float32)
     np.save(os.path.join(out, "weights_indptr.npy"), w.indptr.astype(np.int64))
     np.save(os.path.join(out, "weights_indices.npy"), w.indices.astype(np.int32))
@@ -149,7 +153,7 @@ def main(argv=None) -> int:
             print(f"default {gv.default_backend()}")
             return 0
         start = time.perf_counter()
-        field, spacing, origin, seeds = _load(args)
+        field, spacing, origin, orientation, seeds = _load(args)
         method = None
         if args.command == "shape-functions":
             method = args.method.replace("-", "_")
@@ -158,16 +162,16 @@ def main(argv=None) -> int:
             if not 1 <= args.nodes_per_voxel <= 64:
                 raise _UsageError(f"option --nodes-per-voxel must be an integer from 1 to 64, got "
                                   f"'{args.nodes_per_voxel}'")
-        d = gv.voronoi(field, seeds, spacing=spacing, origin=origin, metric=args.metric,
+        d = gv.voronoi(field, seeds, spacing=spacing, origin=origin, orientation=orientation, metric=args.metric,
                        connectivity=args.connectivity, world=args.world, backend=args.backend)
         if os.path.exists(args.out) and not os.path.isdir(args.out):
             raise _UsageError(f"{args.out}: exists and is not a folder")
         os.makedirs(args.out, exist_ok=True)
-        _write_voronoi(args.out, d, field, spacing, origin)
+        _write_voronoi(args.out, d, field, spacing, origin, orientation)
         if method is not None:
             w, idx, wt = gv.shape_functions(field, d, method=method, k=args.nodes_per_voxel, backend=args.backend,
                                             fixed_k=True)
-            _write_shape(args.out, w, idx, wt, d.label, spacing, origin)
+            _write_shape(args.out, w, idx, wt, d.label, spacing, origin, orientation)
         print(f"geovoronoi {args.command}: {field.size} voxels, {len(seeds)} seeds, backend "
               f"{gv._ext._resolve_backend(args.backend)}, {time.perf_counter() - start:.2f} s, outputs in {args.out}")
         return 0

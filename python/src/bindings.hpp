@@ -93,7 +93,7 @@ std::vector<std::size_t> array_shape(const gv::grid<Dim>& g) {
 /// A grid from an array shape and spacing/origin in array-axis order.
 template <int Dim>
 gv::grid<Dim> make_grid(const std::vector<std::size_t>& shape, const std::vector<double>& spacing,
-                        const std::vector<double>& origin) {
+                        const std::vector<double>& origin, const std::vector<double>& orientation = {}) {
   if (shape.size() != std::size_t(Dim) || spacing.size() != std::size_t(Dim) || origin.size() != std::size_t(Dim))
     throw std::invalid_argument("geovoronoi: shape, spacing and origin must all have " + std::to_string(Dim) + " entries");
   gv::coord<Dim> e{};
@@ -104,7 +104,14 @@ gv::grid<Dim> make_grid(const std::vector<std::size_t>& shape, const std::vector
     s[a] = spacing[r];
     o[a] = origin[r];
   }
-  return gv::grid<Dim>(e, s, o);
+  if (orientation.empty()) return gv::grid<Dim>(e, s, o);
+  // the direction matrix in array-axis order (Python's) -> index-axis order (the library's)
+  if (orientation.size() != std::size_t(Dim * Dim))
+    throw std::invalid_argument("geovoronoi: the orientation must have " + std::to_string(Dim * Dim) + " entries");
+  gv::direction_matrix<Dim> d{};
+  for (int r = 0; r < Dim; ++r)
+    for (int c = 0; c < Dim; ++c) d[std::size_t(r * Dim + c)] = orientation[std::size_t((Dim - 1 - r) * Dim + (Dim - 1 - c))];
+  return gv::grid<Dim>(e, s, o, d);
 }
 
 /// Calls f with the metric object named `name`.

@@ -131,8 +131,8 @@ void write_image(const std::string& path, in_array a, int channels, std::vector<
 template <int Dim>
 void write_vti_dim(const std::string& path, const std::vector<std::pair<std::string, in_array>>& arrays,
                    const std::vector<std::size_t>& shape, const std::vector<double>& spacing,
-                   const std::vector<double>& origin) {
-  gio::vti_writer<Dim> w(make_grid<Dim>(shape, spacing, origin));
+                   const std::vector<double>& origin, const std::vector<double>& orientation) {
+  gio::vti_writer<Dim> w(make_grid<Dim>(shape, spacing, origin, orientation));
   for (const auto& [name, a] : arrays) {
     std::size_t count = 1;
     for (std::size_t i = 0; i < a.ndim(); ++i) count *= a.shape(i);
@@ -149,9 +149,10 @@ void write_vti_dim(const std::string& path, const std::vector<std::pair<std::str
 }
 
 void write_vti(const std::string& path, std::vector<std::pair<std::string, in_array>> arrays,
-               std::vector<std::size_t> shape, std::vector<double> spacing, std::vector<double> origin) {
-  if (shape.size() == 2) return write_vti_dim<2>(path, arrays, shape, spacing, origin);
-  if (shape.size() == 3) return write_vti_dim<3>(path, arrays, shape, spacing, origin);
+               std::vector<std::size_t> shape, std::vector<double> spacing, std::vector<double> origin,
+               std::vector<double> orientation) {
+  if (shape.size() == 2) return write_vti_dim<2>(path, arrays, shape, spacing, origin, orientation);
+  if (shape.size() == 3) return write_vti_dim<3>(path, arrays, shape, spacing, origin, orientation);
   throw std::invalid_argument("geovoronoi: write_vti needs 2D or 3D arrays");
 }
 
@@ -186,7 +187,7 @@ NB_MODULE(_geovoronoi, m) {
   m.def("_write_image", &write_image, nb::arg("path"), nb::arg("array").noconvert(), nb::arg("channels"),
         nb::arg("spacing"), nb::arg("origin"), nb::arg("orientation"), nb::arg("planar"), nb::arg("compress"));
   m.def("_write_vti", &write_vti, nb::arg("path"), nb::arg("arrays"), nb::arg("shape"), nb::arg("spacing"),
-        nb::arg("origin"));
+        nb::arg("origin"), nb::arg("orientation"));
   m.def("_last_field_address", []() { return std::uintptr_t(last_field_address.load()); },
         "Test hook: address of the field buffer the last solve viewed.");
   m.def("_last_core_seconds", []() { return last_core_seconds.load(); },

@@ -89,6 +89,35 @@ def test_world_seeds_round_to_the_nearest_voxel():
     assert d.label[1, 9] == 0 and d.distance[1, 9] == 0
 
 
+def test_world_seeds_through_the_orientation():
+    # a 2D grid whose array axis 0 (y) points along world x and axis 1 (x) along world -y
+    f = np.ones((6, 8), np.float32)
+    rot = np.array([[0.0, -1.0], [1.0, 0.0]])
+    spacing, origin = (2.0, 0.5), (10.0, -3.0)
+    idx = np.array([[1, 7], [4, 2], [5, 0]])
+    world = np.asarray(origin) + (rot @ (idx * np.asarray(spacing)).T).T
+    d = gv.voronoi(f, world + 0.1, world=True, spacing=spacing, origin=origin, orientation=rot, backend="seq")
+    assert d.seeds.tolist() == idx.tolist()
+    assert np.array_equal(d.orientation, rot)
+    # without the orientation the same points miss the grid
+    with pytest.raises(ValueError, match="outside"):
+        gv.voronoi(f, world, world=True, spacing=spacing, origin=origin, backend="seq")
+    # points too, from the diagram's orientation; a different orientation than the diagram's is refused
+    w = gv.shape_functions(f, d, method="sibson", points=world[:2], world=True, backend="seq")
+    full = gv.shape_functions(f, d, method="sibson", backend="seq")
+    rows = np.ravel_multi_index(tuple(idx[:2].T), f.shape)
+    assert np.array_equal(w.toarray(), full.toarray()[rows])
+    with pytest.raises(ValueError, match="orientation differs"):
+        gv.shape_functions(f, d, method="sibson", orientation=np.eye(2))
+
+
+def test_orientation_round_trips_through_vti(tmp_path):
+    rot = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
+    gv.write_vti(tmp_path / "a.vti", {"x": np.zeros((2, 3, 4), np.float32)}, orientation=rot)
+    text = (tmp_path / "a.vti").read_text()
+    assert 'Direction="-1 0 0 0 0 1 0 1 0"' in text, text[:400]
+
+
 def test_parents_lead_to_the_seeds():
     f = field3(np.float64)
     d = gv.voronoi(f, SEEDS3, backend="seq", parent=True)
@@ -220,6 +249,10 @@ BAD_VORONOI = [
     (dict(field=F2, seeds=[[0, 0]], spacing="x"), TypeError, "spacing"),
     (dict(field=F2, seeds=[[0, 0]], origin=(np.nan, 0)), ValueError, "origin"),
     (dict(field=F2, seeds=[[0, 0]], spacing=(1e-300, 1e-300)), ValueError, "length"),
+    (dict(field=F2, seeds=[[0, 0]], orientation=np.eye(3)), ValueError, "(2, 2) matrix"),
+    (dict(field=F2, seeds=[[0, 0]], orientation=[[1, 0], [0, np.nan]]), ValueError, "not finite"),
+    (dict(field=F2, seeds=[[0, 0]], orientation=[[1, 0], [0, 2]]), ValueError, "not orthonormal"),
+    (dict(field=F2, seeds=[[0, 0]], orientation=[["a", 0], [0, 1]]), TypeError, "orientation"),
     (dict(field=F2, seeds=[[0, 0]], metric="euclid"), ValueError, "unknown metric"),
     (dict(field=F2, seeds=[[0, 0]], metric=3), TypeError, "metric"),
     (dict(field=F2, seeds=[[0, 0]], connectivity=6), ValueError, "4 or 8"),
