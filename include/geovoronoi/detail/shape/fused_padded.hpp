@@ -38,7 +38,7 @@
 #include <type_traits>
 #include <vector>
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(__CUDA_ARCH__)
 #include <emmintrin.h>
 #endif
 
@@ -227,7 +227,7 @@ struct metric_never_negative
     : std::bool_constant<std::is_same_v<M, uniform> || std::is_same_v<M, min_stiffness> ||
                          std::is_same_v<M, mean_stiffness> || std::is_same_v<M, mean_cost>> {};
 
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(__CUDA_ARCH__)
 /// The built-in metrics' weights on four float lanes: the operations of their scalar expressions
 /// (metric.hpp), in the same order and with the same operands.
 template <class M>
@@ -340,7 +340,7 @@ class fused_query_padded {
       T nd[KV];
       int improved[KV];
       int n = 0;
-#if defined(__SSE2__)
+#if defined(__SSE2__) && !defined(__CUDA_ARCH__)
       if constexpr (std::is_same_v<T, float> && sse_weight<typename P::metric_type>::value) {
         // four neighbours at a time: the same IEEE operations as the metric's scalar expression, lane by
         // lane (SSE arithmetic is correctly rounded like the scalar one), so the same bits
