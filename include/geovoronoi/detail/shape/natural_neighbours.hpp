@@ -117,8 +117,9 @@ bool accumulate_cell(const P& p, const D& d, const std::vector<face<P::dim>>& fa
   return any_facet;
 }
 
-/// Morton (Z-order) code of voxel coordinates: the bits of the axes interleaved, x lowest (21 bits per
-/// axis are used; higher bits only break ties, which the stable sort above keeps in row order).
+/// Morton (Z-order) code of voxel coordinates: the bits of the axes interleaved, x lowest. Only the low
+/// 21 bits of each coordinate are used; voxels that differ above them tie, and a stable sort keeps
+/// their input order.
 template <class C>
 std::uint64_t morton_code(const C& c) {
   std::uint64_t m = 0;
@@ -238,9 +239,8 @@ void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, co
 
 /**
  * Sibson/Laplace on a host backend: each query is one fused search (fused_padded.hpp where it applies,
- * else fused_query.hpp), run in tasks of
- * queries_per_task on the backend's host threads, with at most memory_budget / fused_worker_budget
- * worker scratches alive. Progress is reported as voxels visited over an estimate of the total: the
+ * else fused_query.hpp), run in tasks of queries_per_task on the backend's host threads, with at most
+ * memory_budget / fused_worker_budget worker scratches alive. Progress is reported as voxels visited over an estimate of the total: the
  * first query of every group of queries_per_task runs first (a systematic sample), and each group's
  * remaining queries are estimated at its sample's cell size.
  */
