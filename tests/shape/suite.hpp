@@ -524,3 +524,4 @@ TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: bad inputs and c
 }  // namespace gvshape
 
 #include "shape/piecewise_and_points.hpp"
+#include "shape/fast_path.hpp"

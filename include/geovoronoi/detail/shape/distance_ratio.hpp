@@ -8,6 +8,7 @@
 #include <geovoronoi/detail/dispatch.hpp>
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <utility>
@@ -40,12 +41,38 @@ inline void insert_slot(label_t* node, double* raw, int k, label_t i, double w) 
   raw[at] = w;
 }
 
-template <class Policy, class P, class D, class W, class Options>
-void distance_ratio(const Policy& policy, const P& p, const D& d, const Options& opt, W& w) {
+/**
+ * Distance Ratio rows: for every voxel of the grid (@p voxel_of null, rows = grid size, row r = voxel r)
+ * or for the voxels voxel_of[0, rows) (chosen points, repeats allowed), into the K slots of each row of
+ * @p out_node / @p out_weight (which start empty: -1 and 0). With chosen points, raw weights are kept
+ * only at their voxels, and a node whose support cannot hold any of them (the support is d_i < 2 dmax
+ * and d_i >= d, the diagram's distance, everywhere) is skipped: the rows are those of the full
+ * computation, bit for bit, since each voxel's slots only ever see its own contributions, in node order.
+ */
+template <class Policy, class P, class D, class Options>
+void distance_ratio_rows(const Policy& policy, const P& p, const D& d, const Options& opt, int k, std::size_t node_count,
+                         const index_t* voxel_of, std::size_t rows, label_t* out_node, typename P::value_type* out_weight) {
   using T = typename P::value_type;
   const index_t n = p.geometry.size();
-  const int k = w.k;
-  const label_t nodes = label_t(w.nodes);
+  const label_t nodes = label_t(node_count);
+  // compact slots: the voxel itself for the whole grid, else one slot per distinct chosen voxel
+  std::vector<std::int64_t> slot_of;
+  std::vector<index_t> slot_voxel;
+  if (voxel_of) {
+    slot_of.assign(std::size_t(n), -1);
+    for (std::size_t r = 0; r < rows; ++r)
+      if (slot_of[std::size_t(voxel_of[r])] < 0) {
+        slot_of[std::size_t(voxel_of[r])] = std::int64_t(slot_voxel.size());
+        slot_voxel.push_back(voxel_of[r]);
+      }
+  }
+  const std::size_t slots = voxel_of ? slot_voxel.size() : std::size_t(n);
+  auto slot = [&](index_t v) -> std::int64_t { return voxel_of ? slot_of[std::size_t(v)] : std::int64_t(v); };
+  std::vector<label_t> point_node;
+  std::vector<T> point_weight;
+  if (voxel_of) point_node.assign(slots * std::size_t(k), no_label), point_weight.assign(slots * std::size_t(k), T(0));
+  label_t* slot_node = voxel_of ? point_node.data() : out_node;
+  T* slot_weight = voxel_of ? point_weight.data() : out_weight;
   const auto faces = faces_of(p);
   const T* dist = d.distance.data();
   const label_t* lab = d.label.data();
@@ -66,7 +93,7 @@ void distance_ratio(const Policy& policy, const P& p, const D& d, const Options&
   std::optional<offset_table<P>> tab;
   if (translation_invariant(p)) tab.emplace(policy, p);
 
-  std::vector<double> raw(std::size_t(n) * std::size_t(k), 0.0);
+  std::vector<double> raw(slots * std::size_t(k), 0.0);
   // Nodes are processed in groups: the group's searches run as parallel host tasks when the backend
   // offers them (each task's backend calls then run on its thread), each producing its node's
   // (voxel, raw weight) list; the lists are merged into the slots in node order, so the result does
@@ -96,11 +123,17 @@ void distance_ratio(const Policy& policy, const P& p, const D& d, const Options&
       }
       const index_t node_voxel = d.seeds[std::size_t(i)];
       if (!(dmax > T(0))) {  // an isolated one-voxel cell: only the node itself
-        out.push_back({node_voxel, 1.0});
+        if (slot(node_voxel) >= 0) out.push_back({node_voxel, 1.0});
         return;
       }
       // 2. the node's own distance over its support d_i < 2 dmax
       const T radius = T(2) * dmax;
+      if (voxel_of) {  // chosen points: skip a node whose support holds none of them
+        bool any = false;
+        for (std::size_t c = 0; c < slots && !any; ++c)
+          any = lab[slot_voxel[c]] != no_label && dist[slot_voxel[c]] < radius;
+        if (!any) return;
+      }
       const auto di = tab ? tab->ball(node_voxel, radius)
                           : dispatch::bounded(policy, p, std::vector<source<T>>{{node_voxel, T(0), 0}}, radius);
       auto di_at = [&](index_t v) -> T {
@@ -143,37 +176,58 @@ void distance_ratio(const Policy& policy, const P& p, const D& d, const Options&
         while (b < db.size() && db.voxel[b] < x) ++b;
         const T dbx = (b < db.size() && db.voxel[b] == x) ? db.distance[b] : dmax;
         const double wx = distance_ratio_weight(double(di.distance[j]), double(dbx), lab[x] == i);
-        if (wx > 0) out.push_back({x, wx});
+        if (wx > 0 && slot(x) >= 0) out.push_back({x, wx});
       }
     });
     for (label_t i = g0; i < g1; ++i) {
-      for (const auto& [x, wx] : contrib[std::size_t(i - g0)])
-        insert_slot(w.node.data() + std::size_t(x) * k, raw.data() + std::size_t(x) * k, k, i, wx);
+      for (const auto& [x, wx] : contrib[std::size_t(i - g0)]) {
+        const std::size_t c = std::size_t(slot(x));
+        insert_slot(slot_node + c * std::size_t(k), raw.data() + c * std::size_t(k), k, i, wx);
+      }
       // progress by work: a node's searches cover its cell and support, so its cell's size stands
       // for its share of the work (not 1 / nodes: cells can differ by orders of magnitude)
       report(opt.progress, start.back() > 0 ? double(start[std::size_t(i) + 1]) / double(start.back())
                                             : double(i + 1) / double(nodes));
     }
   }
-  // 5. normalise the kept weights of every reached voxel
+  // 5. normalise the kept weights of every reached voxel (every slot)
   std::vector<candidate> cand;
-  for (index_t v = 0; v < n; ++v) {
-    const std::size_t at = std::size_t(v) * std::size_t(k);
+  for (std::size_t c = 0; c < slots; ++c) {
+    const index_t v = voxel_of ? slot_voxel[c] : index_t(c);
+    const std::size_t at = c * std::size_t(k);
+    label_t* node = slot_node;
+    T* weight = slot_weight;
     if (lab[v] == no_label) {
-      for (int s = 0; s < k; ++s) w.node[at + s] = no_label;
+      for (int s = 0; s < k; ++s) node[at + s] = no_label;
       continue;
     }
     if (dist[v] == T(0)) {  // a node: Kronecker delta (another node's outside weight is ~0 there anyway)
-      for (int s = 0; s < k; ++s) w.node[at + s] = no_label;
-      w.node[at] = lab[v];
-      w.weight[at] = T(1);
+      for (int s = 0; s < k; ++s) node[at + s] = no_label;
+      node[at] = lab[v];
+      weight[at] = T(1);
       continue;
     }
     cand.clear();
-    for (int s = 0; s < k && w.node[at + s] != no_label; ++s) cand.push_back({w.node[at + s], raw[at + s]});
-    for (int s = 0; s < k; ++s) w.node[at + s] = no_label;
-    store(cand, k, w.node.data() + at, w.weight.data() + at);
+    for (int s = 0; s < k && node[at + s] != no_label; ++s) cand.push_back({node[at + s], raw[at + s]});
+    for (int s = 0; s < k; ++s) node[at + s] = no_label;
+    store(cand, k, node + at, weight + at);
   }
+  // 6. chosen points: each row copies its voxel's slots
+  if (voxel_of)
+    for (std::size_t r = 0; r < rows; ++r) {
+      const std::size_t c = std::size_t(slot_of[std::size_t(voxel_of[r])]);
+      for (int s = 0; s < k; ++s) {
+        out_node[r * std::size_t(k) + std::size_t(s)] = slot_node[c * std::size_t(k) + std::size_t(s)];
+        out_weight[r * std::size_t(k) + std::size_t(s)] = slot_weight[c * std::size_t(k) + std::size_t(s)];
+      }
+    }
+}
+
+/// Distance Ratio at every voxel of the grid, into @p w.
+template <class Policy, class P, class D, class W, class Options>
+void distance_ratio(const Policy& policy, const P& p, const D& d, const Options& opt, W& w) {
+  distance_ratio_rows(policy, p, d, opt, w.k, w.nodes, static_cast<const index_t*>(nullptr),
+                      std::size_t(p.geometry.size()), w.node.data(), w.weight.data());
 }
 
 }  // namespace geovoronoi::detail::shape

@@ -5,6 +5,7 @@
 
 #include <geovoronoi/detail/shape/common.hpp>
 #include <geovoronoi/detail/shape/host_parallel.hpp>
+#include <geovoronoi/detail/shape/fused_padded.hpp>
 #include <geovoronoi/detail/shape/fused_query.hpp>
 #include <geovoronoi/detail/shape/scratch_pool.hpp>
 #include <geovoronoi/detail/shape/translation_invariant.hpp>
@@ -16,6 +17,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -115,6 +117,18 @@ bool accumulate_cell(const P& p, const D& d, const std::vector<face<P::dim>>& fa
   return any_facet;
 }
 
+/// Morton (Z-order) code of voxel coordinates: the bits of the axes interleaved, x lowest. Only the low
+/// 21 bits of each coordinate are used; voxels that differ above them tie, and a stable sort keeps
+/// their input order.
+template <class C>
+std::uint64_t morton_code(const C& c) {
+  std::uint64_t m = 0;
+  for (int b = 0; b < 21; ++b)
+    for (std::size_t a = 0; a < c.size(); ++a)
+      m |= ((std::uint64_t(c[a]) >> b) & 1u) << (std::size_t(b) * c.size() + a);
+  return m;
+}
+
 /// Per-worker scratch of the query loops.
 template <class T>
 struct query_scratch {
@@ -129,15 +143,15 @@ struct query_scratch {
 /// balance cells of very different sizes.
 inline constexpr std::size_t queries_per_task = 64;
 
-/// One worker of the fused query loop: its search scratch and its accumulators.
-template <class P>
+/// One worker of the fused query loop: its search scratch (fused_query, or fused_query_padded on the
+/// fast path) and its accumulators.
+template <class P, class Search = fused_query<P>>
 struct fused_worker {
-  fused_query<P> search;
+  Search search;
   query_scratch<typename P::value_type> s;
   std::size_t peak = 0;  // largest bytes() seen
-  fused_worker(const P& p, const typename P::value_type* dist, const label_t* lab, std::size_t nodes,
-               const piecewise_tables<P>* pw)
-      : search(p, dist, lab, pw), s(nodes) {}
+  template <class... A>
+  fused_worker(std::size_t nodes, A&&... a) : search(std::forward<A>(a)...), s(nodes) {}
   std::size_t bytes() const noexcept {
     return search.bytes() + s.acc.volume.capacity() * (sizeof(std::int64_t) * 4 + sizeof(double) + 1 + sizeof(label_t));
   }
@@ -145,49 +159,30 @@ struct fused_worker {
 
 /// Bytes one fused worker is budgeted: its key array, room for a cell list of the whole grid and a
 /// queue of half the grid (cells stay far below that on real problems), the per-node accumulators.
+/// On the padded fast path (fused_padded.hpp) the shared (bound, label) table is counted here too, so
+/// that one worker's budget always covers everything a call needs besides the exact-ball tables.
 template <class P>
 std::size_t fused_worker_budget(const P& p, std::size_t nodes) {
   using T = typename P::value_type;
   const std::size_t n = std::size_t(p.geometry.size());
+  if (padded_grid<P>::applies(p))
+    return fused_query_padded<P>::dense_bytes(p) + padded_grid<P>::shared_bytes(p) + n * sizeof(std::uint32_t) +
+           n / 2 * fused_query_padded<P>::heap_item_bytes() + nodes * 64 + 65536;
   return fused_query<P>::dense_bytes(p) + n * sizeof(index_t) + n / 2 * sizeof(typename radix_heap<T>::item) +
          nodes * 64 + 65536;
 }
 
-/**
- * Sibson/Laplace on a host backend: each query is one fused search (fused_query.hpp), run in tasks of
- * queries_per_task on the backend's host threads, with at most memory_budget / fused_worker_budget
- * worker scratches alive. Progress is reported as voxels visited over an estimate of the total: the
- * first query of every group of queries_per_task runs first (a systematic sample), and each group's
- * remaining queries are estimated at its sample's cell size.
- */
-template <class Policy, class P, class D, class Options, class Write>
-void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, const Options& opt, bool laplace,
-                              std::size_t nodes, const std::vector<index_t>& queries, const index_t* voxel_of,
-                              Write&& write) {
-  using T = typename P::value_type;
-  const auto faces = faces_of(p);
-  const std::size_t per_worker = fused_worker_budget(p, nodes);
-  if (opt.memory_budget < per_worker)
-    throw std::invalid_argument("geovoronoi::shape_functions: memory_budget is " + std::to_string(opt.memory_budget) +
-                                " bytes, but one query worker on this grid needs " + std::to_string(per_worker));
-  const T* dist = d.distance.data();
-  const label_t* lab = d.label.data();
-  // exact balls on constant regions (piecewise.hpp): a few small table solves, 3 bytes per voxel
-  std::unique_ptr<piecewise_tables<P>> pw;
-  if (opt.reuse_constant_regions) {
-    pw = std::make_unique<piecewise_tables<P>>(policy, p);
-    if (pw->empty() || pw->bytes() + per_worker > opt.memory_budget) pw.reset();
-  }
-  const std::size_t shared = pw ? pw->bytes() : 0;
-  scratch_pool<fused_worker<P>> pool((opt.memory_budget - shared) / per_worker, [&] {
-    return std::make_unique<fused_worker<P>>(p, dist, lab, nodes, pw.get());
-  });
+/// The query loop of fused_natural_neighbours over a pool of workers (either search).
+template <class Policy, class Options, class Face, class Write, class Pool>
+void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, const std::vector<Face>& faces,
+                      const std::vector<index_t>& queries, const index_t* voxel_of, Write&& write, Pool& pool,
+                      std::size_t shared) {
   const std::size_t total = queries.size();
   const std::size_t group = queries_per_task;
   const std::size_t groups = (total + group - 1) / group;
   std::vector<std::size_t> sample(groups, 0);  // cell size of each group's first query
   std::atomic<std::size_t> visited_total{0};
-  auto one = [&](fused_worker<P>& wk, std::size_t i) {
+  auto one = [&](auto& wk, std::size_t i) {
     std::size_t visited = 0;
     const bool any_facet = wk.search.run(voxel_of[queries[i]], laplace, faces, wk.s.acc, visited);
     write(queries[i], wk.s, any_facet);
@@ -234,11 +229,55 @@ void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, cons
   }
   if (opt.stats) {
     std::size_t peak = 0;
-    pool.for_each([&](const fused_worker<P>& wk) { peak += wk.peak; });
+    pool.for_each([&](const auto& wk) { peak += wk.peak; });
     opt.stats->workers = pool.created();
     opt.stats->peak_scratch_bytes = peak + shared;
     opt.stats->voxels_visited = visited_total.load();
     opt.stats->queries = total;
+  }
+}
+
+/**
+ * Sibson/Laplace on a host backend: each query is one fused search (fused_padded.hpp where it applies,
+ * else fused_query.hpp), run in tasks of queries_per_task on the backend's host threads, with at most
+ * memory_budget / fused_worker_budget worker scratches alive. Progress is reported as voxels visited over an estimate of the total: the
+ * first query of every group of queries_per_task runs first (a systematic sample), and each group's
+ * remaining queries are estimated at its sample's cell size.
+ */
+template <class Policy, class P, class D, class Options, class Write>
+void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, const Options& opt, bool laplace,
+                              std::size_t nodes, const std::vector<index_t>& queries, const index_t* voxel_of,
+                              Write&& write) {
+  using T = typename P::value_type;
+  const auto faces = faces_of(p);
+  const std::size_t per_worker = fused_worker_budget(p, nodes);
+  if (opt.memory_budget < per_worker)
+    throw std::invalid_argument("geovoronoi::shape_functions: memory_budget is " + std::to_string(opt.memory_budget) +
+                                " bytes, but one query worker on this grid needs " + std::to_string(per_worker));
+  const T* dist = d.distance.data();
+  const label_t* lab = d.label.data();
+  // exact balls on constant regions (piecewise.hpp): a few small table solves, 3 bytes per voxel
+  std::unique_ptr<piecewise_tables<P>> pw;
+  if (opt.reuse_constant_regions) {
+    pw = std::make_unique<piecewise_tables<P>>(policy, p);
+    if (pw->empty() || pw->bytes() + per_worker > opt.memory_budget) pw.reset();
+  }
+  if (padded_grid<P>::applies(p)) {
+    // the fast path: the shared table is part of per_worker (fused_worker_budget), counted once here
+    const padded_grid<P> g(p, dist, lab);
+    const std::size_t shared = (pw ? pw->bytes() : 0) + g.bytes();
+    const std::size_t room = opt.memory_budget - (pw ? pw->bytes() : 0);
+    const std::size_t each = per_worker - padded_grid<P>::shared_bytes(p);
+    scratch_pool<fused_worker<P, fused_query_padded<P>>> pool((room - std::min(room, g.bytes())) / each, [&] {
+      return std::make_unique<fused_worker<P, fused_query_padded<P>>>(nodes, p, g, pw.get());
+    });
+    fused_query_loop(policy, opt, laplace, faces, queries, voxel_of, write, pool, shared);
+  } else {
+    const std::size_t shared = pw ? pw->bytes() : 0;
+    scratch_pool<fused_worker<P>> pool((opt.memory_budget - shared) / per_worker, [&] {
+      return std::make_unique<fused_worker<P>>(nodes, p, dist, lab, pw.get());
+    });
+    fused_query_loop(policy, opt, laplace, faces, queries, voxel_of, write, pool, shared);
   }
 }
 
@@ -271,6 +310,17 @@ void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const 
       node[r * std::size_t(k)] = l;
       weight[r * std::size_t(k)] = T(1);
     }
+  }
+  // Rows of chosen points come in any order: run them in Morton (Z-curve) order of their voxels, so
+  // that consecutive queries are near each other in all axes, their cells overlap and a search finds
+  // much of its neighbourhood in the cache. Rows already in voxel order (the whole grid) keep it. Each
+  // row is computed on its own, so the order changes no result.
+  if (!std::is_sorted(queries.begin(), queries.end(), [&](index_t a, index_t b) { return voxel_of[a] < voxel_of[b]; })) {
+    std::vector<std::pair<std::uint64_t, index_t>> order;
+    order.reserve(queries.size());
+    for (index_t r : queries) order.push_back({morton_code(p.geometry.coords(voxel_of[r])), r});
+    std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (std::size_t i = 0; i < order.size(); ++i) queries[i] = order[i].second;
   }
   const std::size_t total = queries.size();
   auto write = [&](index_t row, query_scratch<T>& s, bool any_facet) {

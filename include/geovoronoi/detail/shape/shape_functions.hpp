@@ -136,18 +136,16 @@ point_weights<typename P::value_type> shape_functions_at(const Policy& policy, c
   w.node.assign(slots, no_label);
   w.weight.assign(slots, T(0));
   switch (opt.method) {
-    case shape_method::distance_ratio: {
-      // the per-node solves serve every point of a node's support, so they run in full; the rows are
-      // then those of the full computation
-      auto full = shape_functions(policy, problem, d, opt);
-      for (std::size_t i = 0; i < points.size(); ++i)
-        for (int s = 0; s < w.k; ++s) {
-          const std::size_t from = std::size_t(w.voxel[i]) * std::size_t(w.k) + std::size_t(s);
-          w.node[i * std::size_t(w.k) + std::size_t(s)] = full.node[from];
-          w.weight[i * std::size_t(w.k) + std::size_t(s)] = full.weight[from];
-        }
+    case shape_method::distance_ratio:
+      if (points.empty()) break;  // (an empty vector's data() may be null, which means the whole grid)
+      // the per-node solves as for the whole grid (each point's row equals its full row), raw weights
+      // kept at the points only, nodes whose support holds no point skipped
+      detail::with_threads(policy, opt.threads, [&] {
+        detail::shape::distance_ratio_rows(policy, problem, d, opt, w.k, w.nodes, w.voxel.data(), points.size(),
+                                           w.node.data(), w.weight.data());
+        return 0;
+      });
       break;
-    }
     case shape_method::sibson:
     case shape_method::laplace:
       detail::with_threads(policy, opt.threads, [&] {
