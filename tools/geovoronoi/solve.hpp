@@ -55,6 +55,8 @@ struct problem_spec {
   std::function<bool(double)> progress = nullptr;
   /// The cut edges of `--cut` (built for this grid and connectivity), or null without cuts.
   const gv::cut_table* cuts = nullptr;
+  /// Whether the diagram keeps its parent image (solve_options::with_parent; `cut` needs it).
+  bool with_parent = false;
 };
 
 /// Calls f(problem) with the library's problem object for @p s: a problem with cuts (one type per
@@ -80,6 +82,7 @@ gv::diagram<T, 3> solve_voronoi(const Policy& policy, const problem_spec<T>& s) 
   gv::solve_options opt;
   opt.threads = s.threads;
   opt.progress = s.progress;
+  opt.with_parent = s.with_parent;
   with_problem(s, [&](const auto& p) { d = gv::voronoi(policy, p, s.seeds, opt); });
   return d;
 }
