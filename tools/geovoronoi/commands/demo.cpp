@@ -130,11 +130,14 @@ int run(const std::vector<std::string>& args) {
     o.xy_only = true;
     gio::write_png(sub + "/weight_node0.png", gio::weight_picture(one, 0, d.seeds, o));
   }
-  // the cut: a planar 20 x 20 mm blade beside the bone's stem (x = 70.5 mm, y 60..80, z 6..26), the
-  // diagram updated incrementally and checked against a full recompute (`geovoronoi cut`)
+  // the cut: a planar 30 x 20 mm blade along the top of the bone's bar, right of node 0 (the plane
+  // y = 49.5 mm, x 70..100, z 6..26). The bone carries node 0's cell across the steak; the meat above
+  // the blade is now reached from the bone only around it, so the bone's cell loses it to node 9.
+  // (bench/voronoi's cut20 blade, x = 70.5 beside the stem, does the opposite: node 10's cell loses
+  // meat to the bone's.) Updated incrementally and checked against a full recompute (`geovoronoi cut`).
   bar.update("cut");
   gv::triangle_mesh blade;
-  blade.vertices = {{70.5, 60, 6}, {70.5, 80, 6}, {70.5, 80, 26}, {70.5, 60, 26}};
+  blade.vertices = {{70, 49.5, 6}, {100, 49.5, 6}, {100, 49.5, 26}, {70, 49.5, 26}};
   blade.triangles = {{0, 1, 2}, {0, 2, 3}};
   const auto blade_set = gv::cut_from_mesh(g, gv::connectivity<26>{}, blade);
   const gv::cut_table blade_table(blade_set);
@@ -149,7 +152,7 @@ int run(const std::vector<std::string>& args) {
   {
     const std::string sub = out.subdir("cut");
     std::ofstream obj(sub + "/blade.obj");
-    obj << "# the demo's blade (world coordinates, mm): the plane x = 70.5, y 60..80, z 6..26\n";
+    obj << "# the demo's blade (world coordinates, mm): the plane y = 49.5, x 70..100, z 6..26\n";
     for (const auto& q : blade.vertices) obj << "v " << q[0] << " " << q[1] << " " << q[2] << "\n";
     obj << "f 1 2 3\nf 1 3 4\n";
     if (!obj) throw gio::io_error(sub + "/blade.obj", "write error");
@@ -197,8 +200,9 @@ const command demo_command = {
     "  sibson/             Sibson weights (K = 4) of the 12288 voxels of the slice z = 16, exactly the\n"
     "                      rows of a full-grid run: points.csv (the voxels, row order), weights_at_*.npy\n"
     "                      (points x nodes CSR), weights_at.csv, weight_node0.png (node 0's weight)\n"
-    "  cut/                blade.obj (the plane x = 70.5 mm, y 60..80, z 6..26), changed.mhd and\n"
-    "                      cut.png (cells before | after the cut) as `geovoronoi cut` writes them\n"
+    "  cut/                blade.obj (the plane y = 49.5 mm, x 70..100, z 6..26: along the top of the\n"
+    "                      bone's bar), changed.mhd and cut.png (cells before | after the cut) as\n"
+    "                      `geovoronoi cut` writes them\n"
     "\n"
     "example:\n"
     "  geovoronoi demo --out demo-out\n",
