@@ -209,7 +209,7 @@ const command cut_command = {
     "  .geovoronoi-output  the marker that lets the next run with this --out replace the folder\n"
     "\n"
     "example:\n"
-    "  geovoronoi cut --stiffness demo-out/stiffness.mhd --seeds demo-out/seeds.csv --cut blade.stl\n"
+    "  geovoronoi cut --stiffness demo-out/stiffness.mhd --seeds demo-out/seeds.csv --cut demo-out/cut/blade.obj\n"
     "                 --out cut-out\n",
     run};
 

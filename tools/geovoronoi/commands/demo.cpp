@@ -144,7 +144,10 @@ int run(const std::vector<std::string>& args) {
   const problem_spec<float> p_cut{field, seeds, "min_stiffness", 26, threads, nullptr, &blade_table, true};
   t0 = bar.seconds();
   auto dc = d;
-  update_cuts(p_cut, blade_set, dc);
+  {  // this one problem type only (update_cuts() would instantiate every metric and connectivity)
+    const auto problem = gv::make_problem(g, field, gv::min_stiffness{}, gv::connectivity<26>{});
+    gv::update_in_place(gv::seq, gv::with_cuts(problem, blade_table), dc, blade_set);
+  }
   const double t_update = bar.seconds() - t0;
   t0 = bar.seconds();
   require_equal(dc, solver.in_float.voronoi(p_cut));
