@@ -5,9 +5,11 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <limits>
 #include <set>
 #include <tuple>
+#include <vector>
 
 namespace gio = geovoronoi::io;
 namespace gd = geovoronoi::io::detail;
@@ -255,4 +257,38 @@ TEST_CASE("picture: stiff material is hatched and named in the legend") {
   // without the stiffness image the same pixels are the cell's colour
   const auto plain = gio::label_picture(label, {}, static_cast<const geovoronoi::image<float, 2>*>(nullptr), o);
   CHECK(plain.get(8 + w.cx(20), panel_top(1) + w.cy(10)) == gio::label_colour(0));
+}
+
+TEST_CASE("picture: a cut is drawn between the voxels it separates, marked voxels are outlined") {
+  const geovoronoi::grid<2> g({40, 20});
+  geovoronoi::image<label_t, 2> label(g, 0);
+  gio::picture_options o;
+  const auto L = gd::make_layout(g, o);
+  const auto& w = L.views[0];
+  const index_t row = panel_top(1) + w.cy(10);
+  auto columns_of = [&](const gio::rgb_image& pic, gio::rgb c) {
+    std::vector<index_t> xs;
+    for (index_t x = 8; x < 8 + w.w; ++x)
+      if (pic.get(x, row) == c) xs.push_back(x - 8);
+    return xs;
+  };
+  const auto plain = gio::label_picture(label, {}, static_cast<const geovoronoi::image<float, 2>*>(nullptr), o);
+  CHECK(columns_of(plain, gio::picture_cut).empty());
+  CHECK(columns_of(plain, gio::picture_marked).empty());
+  // the cut between columns 19 and 20; columns 30 and up marked
+  o.cut_between = [&](index_t u, index_t v) {
+    const auto a = g.coords(u)[0], b = g.coords(v)[0];
+    return std::min(a, b) == 19 && std::max(a, b) == 20;
+  };
+  o.marked = [&](index_t v) { return g.coords(v)[0] >= 30; };
+  const auto pic = gio::label_picture(label, {}, static_cast<const geovoronoi::image<float, 2>*>(nullptr), o);
+  const auto cut = columns_of(pic, gio::picture_cut);
+  REQUIRE(!cut.empty());
+  for (const index_t x : cut) CHECK((w.a_of(x) == 19 || w.a_of(x) == 20));
+  const auto marked = columns_of(pic, gio::picture_marked);
+  REQUIRE(!marked.empty());
+  for (const index_t x : marked) CHECK(w.a_of(x) >= 30);
+  CHECK(std::find_if(marked.begin(), marked.end(), [&](index_t x) { return w.a_of(x) == 30; }) != marked.end());
+  CHECK(pic.get(8 + w.cx(35), row) == gio::label_colour(0));  // the inside of the marked region keeps its colour
+  CHECK(pic.get(8 + w.cx(10), row) == gio::label_colour(0));
 }

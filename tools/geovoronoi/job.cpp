@@ -122,7 +122,7 @@ namespace {
 /// The cut edges of every `--cut MESH` (.stl or .obj, world coordinates) on grid @p g under
 /// connectivity @p n: one cut_set per mesh, merged, then the solvers' hash table.
 std::shared_ptr<const gv::cut_table> load_cuts(const std::vector<std::string>& paths, const gv::grid<3>& g, int n,
-                                               std::size_t& edges) {
+                                               std::size_t& edges, std::shared_ptr<const gv::cut_set<3>>& set) {
   std::shared_ptr<const gv::cut_table> table;
   with_connectivity(n, [&](auto conn) {
     gv::cut_set<3> all(g, conn);
@@ -141,6 +141,7 @@ std::shared_ptr<const gv::cut_table> load_cuts(const std::vector<std::string>& p
     }
     edges = all.size();
     table = std::make_shared<const gv::cut_table>(all);
+    set = std::make_shared<const gv::cut_set<3>>(std::move(all));
   });
   return table;
 }
@@ -186,7 +187,7 @@ job load_job(const arguments& a) {
   }
   const auto& g = j.geometry();
   j.cut_paths = a.all("--cut");
-  if (!j.cut_paths.empty()) j.cuts = load_cuts(j.cut_paths, g, j.connectivity, j.cut_edges);
+  if (!j.cut_paths.empty()) j.cuts = load_cuts(j.cut_paths, g, j.connectivity, j.cut_edges, j.cut_set);
   const bool world = a.has("--world");
   for (const auto& r : read_seed_rows(j.seeds_path, !world)) {
     const std::string where = j.seeds_path + ":" + std::to_string(r.line) + ": seed ";
@@ -221,10 +222,15 @@ job load_job(const arguments& a) {
 
 template <class T>
 gv::diagram<T, 3> solve_diagram(const job& j, const std::function<bool(double)>& progress) {
+  auto s = j.spec<T>();
+  s.progress = progress;
+  return solve_diagram(j, s);
+}
+
+template <class T>
+gv::diagram<T, 3> solve_diagram(const job& j, const problem_spec<T>& s) {
   auto d = [&] {
     try {
-      auto s = j.spec<T>();
-      s.progress = progress;
       return j.solver->fns<T>().voronoi(s);
     } catch (const std::invalid_argument& e) {
       throw usage_error(locate_seed_error(e.what(), j.seeds_path, j.seed_lines));
@@ -240,6 +246,8 @@ gv::diagram<T, 3> solve_diagram(const job& j, const std::function<bool(double)>&
 
 template gv::diagram<float, 3> solve_diagram(const job&, const std::function<bool(double)>&);
 template gv::diagram<double, 3> solve_diagram(const job&, const std::function<bool(double)>&);
+template gv::diagram<float, 3> solve_diagram(const job&, const problem_spec<float>&);
+template gv::diagram<double, 3> solve_diagram(const job&, const problem_spec<double>&);
 
 namespace {
 template <class T>

@@ -35,6 +35,7 @@ struct job {
   /// `--cut MESH` files, in order, and the cut edges of all of them (null without --cut).
   std::vector<std::string> cut_paths;
   std::shared_ptr<const gv::cut_table> cuts;
+  std::shared_ptr<const gv::cut_set<3>> cut_set;  ///< the same edges as a cut_set (for `cut`'s update)
   std::size_t cut_edges = 0;
 
   const gv::grid<3>& geometry() const noexcept { return in_double ? field_double.geometry() : field.geometry(); }
@@ -77,6 +78,10 @@ decltype(auto) with_precision(const job& j, F&& f) {
 /// @p progress (may be empty) receives the solve's fraction done.
 template <class T>
 gv::diagram<T, 3> solve_diagram(const job& j, const std::function<bool(double)>& progress = nullptr);
+/// The same for the problem @p s (a variant of j.spec<T>(): `cut` solves the problem before and after
+/// its change), with the job's seed file named in errors.
+template <class T>
+gv::diagram<T, 3> solve_diagram(const job& j, const problem_spec<T>& s);
 
 /// What a command does after the diagram (the shape functions), in T.
 template <class T>

@@ -38,16 +38,16 @@ gio::volume<T> planar_volume(const gv::grid<3>& g, int channels) {
 }  // namespace
 
 template <class T>
-void write_voronoi(const output_dir& out, const gv::diagram<T, 3>& d, const gv::image<T, 3>& field,
+void write_voronoi(const std::string& dir, const gv::diagram<T, 3>& d, const gv::image<T, 3>& field,
                    const picture_context& pc) {
-  gio::write_metaimage(out.file("distance.mhd"), d.distance);
-  gio::write_metaimage(out.file("label.mhd"), d.label);
-  gio::write_png(out.file("labels.png"), gio::label_picture(d.label, d.seeds, &field, pc.options("VORONOI CELLS")));
-  gio::write_png(out.file("distance.png"),
+  gio::write_metaimage(dir + "/distance.mhd", d.distance);
+  gio::write_metaimage(dir + "/label.mhd", d.label);
+  gio::write_png(dir + "/labels.png", gio::label_picture(d.label, d.seeds, &field, pc.options("VORONOI CELLS")));
+  gio::write_png(dir + "/distance.png",
                  gio::distance_picture(d.distance, d.seeds, pc.distance_unit(), pc.options("GEODESIC DISTANCE")));
   gio::vti_writer<3> w(d.geometry());
   w.add("label", d.label).add("distance", d.distance).add("stiffness", field);
-  w.write(out.file("voronoi.vti"));
+  w.write(dir + "/voronoi.vti");
 }
 
 template <class T>
@@ -131,9 +131,9 @@ void write_shape_at(const std::string& dir, const gv::point_weights<T>& w) {
   if (!ok) throw std::runtime_error(path + ": write failed");
 }
 
-template void write_voronoi(const output_dir&, const gv::diagram<float, 3>&, const gv::image<float, 3>&,
+template void write_voronoi(const std::string&, const gv::diagram<float, 3>&, const gv::image<float, 3>&,
                             const picture_context&);
-template void write_voronoi(const output_dir&, const gv::diagram<double, 3>&, const gv::image<double, 3>&,
+template void write_voronoi(const std::string&, const gv::diagram<double, 3>&, const gv::image<double, 3>&,
                             const picture_context&);
 template void write_shape(const std::string&, const gv::shape_weights<float, 3>&, const gv::diagram<float, 3>&, int,
                           const picture_context&, const std::string&);

@@ -39,8 +39,14 @@ struct picture_context {
 /// distance.mhd, label.mhd, labels.png, distance.png, voronoi.vti. The distance (and the stiffness in
 /// voronoi.vti) in T: MET_FLOAT / Float32, or MET_DOUBLE / Float64 with `--precision double`.
 template <class T>
-void write_voronoi(const output_dir& out, const gv::diagram<T, 3>& d, const gv::image<T, 3>& field,
+void write_voronoi(const std::string& dir, const gv::diagram<T, 3>& d, const gv::image<T, 3>& field,
                    const picture_context& pc);
+/// The same in the output folder itself.
+template <class T>
+void write_voronoi(const output_dir& out, const gv::diagram<T, 3>& d, const gv::image<T, 3>& field,
+                   const picture_context& pc) {
+  write_voronoi(out.subdir("."), d, field, pc);
+}
 
 /// In the folder @p dir: indices.mhd, weights.mhd (K interleaved channels: ITK, ParaView, Slicer),
 /// indices_sofa_planar.mhd, weights_sofa_planar.mhd (K planar channels, SOFA's layout), weights.vti

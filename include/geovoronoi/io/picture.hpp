@@ -32,6 +32,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
@@ -95,7 +96,17 @@ struct picture_options {
   index_t highlight_node = -1;
   /// Node indices are written beside the markers when there are at most this many nodes.
   std::size_t max_node_labels = 64;
+  /// Label pictures: a cut surface, drawn as a thick line between two voxels that are neighbours in
+  /// a panel (they share a face) where `cut_between(u, v)` is true; empty: none.
+  std::function<bool(index_t, index_t)> cut_between;
+  /// Label pictures: voxels outlined (inside their region's border) where `marked(v)` is true, e.g.
+  /// those a change affected, named `marked_text` in the legend; empty: none.
+  std::function<bool(index_t)> marked;
+  std::string marked_text = "CHANGED";
 };
+
+/// The colours of a label picture's cut line and of the outline of marked voxels.
+inline constexpr rgb picture_cut{220, 20, 60}, picture_marked{255, 255, 255};
 
 // ---------------------------------------------------------------------------------------------------
 
@@ -279,6 +290,43 @@ void draw_borders(rgb_image& pic, const grid<Dim>& g, const std::vector<view>& v
         const index_t r = px + 1 < w.x0 + w.w ? voxel_of(g, w, px + 1, py) : v;
         const index_t d = py + 1 < w.y0 + w.h ? voxel_of(g, w, px, py + 1) : v;
         if ((r != v && cls(r) != c) || (d != v && cls(d) != c)) pic.set(px, py, colour);
+      }
+}
+
+/// Draws a line 3 pixels wide on the border between two pixels whose voxels are in-panel neighbours
+/// with `between(u, v)` true.
+template <int Dim, class Between>
+void draw_between(rgb_image& pic, const grid<Dim>& g, const std::vector<view>& views, Between between, rgb colour) {
+  for (const auto& w : views)
+    for (index_t py = w.y0; py < w.y0 + w.h; ++py)
+      for (index_t px = w.x0; px < w.x0 + w.w; ++px) {
+        const index_t v = voxel_of(g, w, px, py);
+        if (px + 1 < w.x0 + w.w) {
+          const index_t r = voxel_of(g, w, px + 1, py);
+          if (r != v && between(v, r))
+            for (index_t x = std::max(w.x0, px - 1); x <= std::min(w.x0 + w.w - 1, px + 1); ++x) pic.set(x, py, colour);
+        }
+        if (py + 1 < w.y0 + w.h) {
+          const index_t d = voxel_of(g, w, px, py + 1);
+          if (d != v && between(v, d))
+            for (index_t y = std::max(w.y0, py - 1); y <= std::min(w.y0 + w.h - 1, py + 1); ++y) pic.set(px, y, colour);
+        }
+      }
+}
+
+/// Outlines the regions of marked voxels: a pixel of a marked voxel next to (4-neighbours) a pixel
+/// of an unmarked voxel or the panel's edge takes the colour.
+template <int Dim, class Marked>
+void draw_outline(rgb_image& pic, const grid<Dim>& g, const std::vector<view>& views, Marked marked, rgb colour) {
+  for (const auto& w : views)
+    for (index_t py = w.y0; py < w.y0 + w.h; ++py)
+      for (index_t px = w.x0; px < w.x0 + w.w; ++px) {
+        if (!marked(voxel_of(g, w, px, py))) continue;
+        bool edge = false;
+        const index_t nx[4] = {px - 1, px + 1, px, px}, ny[4] = {py, py, py - 1, py + 1};
+        for (int k = 0; k < 4 && !edge; ++k)
+          edge = !w.contains(nx[k], ny[k]) || !marked(voxel_of(g, w, nx[k], ny[k]));
+        if (edge) pic.set(px, py, colour);
       }
 }
 
@@ -496,7 +544,8 @@ inline void add_node_legend(column& col, bool three_d, bool numbered) {
 /**
  * @brief Label picture: each cell in its node's colour with black borders, nodes marked and
  *        numbered; with a stiffness image, the stiffest material (at least `stiff_ratio` times the
- *        median inside value) hatched so one sees the cells bend around it.
+ *        median inside value) hatched so one sees the cells bend around it; a cut drawn and
+ *        changed voxels outlined when picture_options::cut_between / marked are set.
  * @param nodes voxel index of node i at position i (diagram::seeds)
  */
 template <int Dim, class S = float>
@@ -524,6 +573,9 @@ rgb_image label_picture(const image<label_t, Dim>& label, const std::vector<inde
     col.entries.push_back({E::legend_entry, "", {detail::legend_item::hatch, label_colour(0),
                                          "STIFF: >=" + detail::format_value(stiff_ratio) + "X MEDIAN"}});
   col.entries.push_back({E::legend_entry, "", {detail::legend_item::fill, picture_outside, "OUTSIDE/UNREACHED"}});
+  if (o.cut_between) col.entries.push_back({E::legend_entry, "", {detail::legend_item::line, picture_cut, "CUT"}});
+  if (o.marked)
+    col.entries.push_back({E::legend_entry, "", {detail::legend_item::line, picture_marked, o.marked_text + " (OUTLINED)"}});
   if (!nodes.empty())
     detail::add_node_legend(col, Dim == 3 && g.extent(Dim - 1) > 1 && !o.xy_only, nodes.size() <= o.max_node_labels);
   col.entries.push_back({E::text_line, "CELL COLOUR = ITS NODE'S", {}});
@@ -534,6 +586,8 @@ rgb_image label_picture(const image<label_t, Dim>& label, const std::vector<inde
       return c;
     });
     detail::draw_borders(pic, g, views, [&](index_t v) { return label[v] < 0 ? label_t(-1) : label[v]; }, rgb{0, 0, 0});
+    if (o.marked) detail::draw_outline(pic, g, views, o.marked, picture_marked);
+    if (o.cut_between) detail::draw_between(pic, g, views, o.cut_between, picture_cut);
     detail::draw_nodes(pic, g, views, nodes, o);
   });
 }

@@ -1,20 +1,22 @@
 // geovoronoi demo: the built-in T-bone steak phantom, its Voronoi diagram under two metrics and two
 // kinds of shape functions, as pictures and volumes.
 #include "../backends.hpp"
+#include "../change.hpp"
 #include "../command.hpp"
 #include "../output_dir.hpp"
 #include "../outputs.hpp"
 #include "../progress_bar.hpp"
 
+#include <geovoronoi/cut_from_mesh.hpp>
 #include <geovoronoi/io/metaimage.hpp>
 #include <geovoronoi/io/picture.hpp>
 #include <geovoronoi/io/png.hpp>
 #include <geovoronoi/phantom.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
-#include <set>
 #include <stdexcept>
 
 namespace gvcli {
@@ -31,33 +33,6 @@ std::vector<gv::coord<3>> mid_slice_seeds(const gv::image<float, 3>& field, int 
   for (index_t v = 0; v < g.size(); ++v)
     if (g.coords(v)[2] != g.extent(2) / 2) plane[v] = 0.0f;
   return gv::phantom::spread_seeds(plane, count);
-}
-
-/// The same nodes on a coarser grid of the same object: each moves to the voxel whose centre is
-/// nearest to its world position (or, if that voxel is outside the object or taken, to the nearest
-/// free inside voxel of its slice within two voxels), so node i keeps its place, its index and its
-/// colour in every picture.
-std::vector<gv::coord<3>> resample_seeds(const gv::grid<3>& from, const std::vector<gv::coord<3>>& seeds,
-                                         const gv::image<float, 3>& field) {
-  const auto& g = field.geometry();
-  std::vector<gv::coord<3>> out;
-  std::set<index_t> used;
-  for (std::size_t i = 0; i < seeds.size(); ++i) {
-    const auto c = g.nearest_voxel(from.world(seeds[i]));
-    index_t best = -1;
-    double best_d = std::numeric_limits<double>::infinity();
-    for (index_t dy = -2; dy <= 2; ++dy)
-      for (index_t dx = -2; dx <= 2; ++dx) {
-        const gv::coord<3> q{c[0] + dx, c[1] + dy, c[2]};
-        if (!g.contains(q) || !(field[g.index(q)] > 0) || used.count(g.index(q))) continue;
-        const double dist = double(dx * dx + dy * dy);
-        if (dist < best_d) best_d = dist, best = g.index(q);
-      }
-    if (best < 0) throw std::runtime_error("demo: node " + std::to_string(i) + " has no place on the coarse grid");
-    used.insert(best);
-    out.push_back(g.coords(best));
-  }
-  return out;
 }
 
 /// A seed file (valid for --seeds) of @p seeds, voxel indices in @p volume.
@@ -80,22 +55,14 @@ int run(const std::vector<std::string>& args) {
   const gv::grid<3> g({128, 96, 32}, {1.0, 1.0, 1.0});
   const auto field = gv::phantom::steak(g);
   const auto seeds = mid_slice_seeds(field, 12);
-  // Sibson inserts every voxel as a query and searches its new cell (cost ~ voxels^2 / nodes; the
-  // steak is not translation invariant, so no shortcut applies): on CPU backends it runs on the same
-  // steak at half the resolution (same physical size, 1/8 of the voxels, 1/64 of the work), on a GPU
-  // backend at full resolution. The nodes are the same ones, moved to the coarse grid.
-  const bool full_sibson = backend_name == "cuda";
-  const gv::grid<3> gh = full_sibson ? g : gv::grid<3>({64, 48, 16}, {2.0, 2.0, 2.0});
-  const auto field_h = gv::phantom::steak(gh);
-  const auto seeds_h = full_sibson ? seeds : resample_seeds(g, seeds, field_h);
   output_dir out(dir, {}, "geovoronoi demo");
   gio::write_metaimage(out.file("stiffness.mhd"), field);
   write_seeds(out.file("seeds.csv"), seeds, "stiffness.mhd");
-  std::printf("demo: steak phantom %lldx%lldx%lld (Sibson: %lldx%lldx%lld), %zu nodes, backend %s\n",
-              (long long)g.extent(0), (long long)g.extent(1), (long long)g.extent(2), (long long)gh.extent(0),
-              (long long)gh.extent(1), (long long)gh.extent(2), seeds.size(), backend_name.c_str());
+  std::printf("demo: steak phantom %lldx%lldx%lld, %zu nodes, backend %s\n", (long long)g.extent(0),
+              (long long)g.extent(1), (long long)g.extent(2), seeds.size(), backend_name.c_str());
   std::fflush(stdout);
-  const problem_spec<float> p{field, seeds, "min_stiffness", 26, threads};
+  // with parents: the cut step updates this diagram incrementally (update.hpp follows its tree)
+  const problem_spec<float> p{field, seeds, "min_stiffness", 26, threads, nullptr, nullptr, true};
   const picture_context pc{"min_stiffness", "MM", 26}, pcu{"uniform", "MM", 26};
   bar.update("voronoi");
   auto t0 = bar.seconds();
@@ -117,49 +84,108 @@ int run(const std::vector<std::string>& args) {
   gio::write_png(out.file("labels_compare.png"),
                  gio::hstack(gio::label_picture(du.label, du.seeds, &field, left),
                              gio::label_picture(d.label, d.seeds, &field, right), gio::picture_background));
-  auto shape = [&](const problem_spec<float>& prob, const gv::diagram<float, 3>& diag, gv::shape_method method) {
-    bar.update(method_name(method), 0.0);
-    t0 = bar.seconds();
-    gv::shape_options opt;
-    opt.method = method;
-    opt.max_nodes_per_voxel = 4;
-    opt.progress = [&](double x) { bar.set_fraction(x); return true; };
-    const auto w = solver.in_float.shape(prob, diag, opt);
-    std::printf("  %-16s %7.2f s (%lld voxels)\n", method_name(method), bar.seconds() - t0,
-                (long long)prob.field.geometry().size());
+  // Distance Ratio on every voxel of the full grid
+  bar.update(method_name(gv::shape_method::distance_ratio), 0.0);
+  t0 = bar.seconds();
+  gv::shape_options opt;
+  opt.method = gv::shape_method::distance_ratio;
+  opt.max_nodes_per_voxel = 4;
+  opt.progress = [&](double x) { bar.set_fraction(x); return true; };
+  {
+    const auto w = solver.in_float.shape(p, d, opt);
+    std::printf("  %-16s %7.2f s (%lld voxels)\n", method_name(opt.method), bar.seconds() - t0, (long long)g.size());
     std::fflush(stdout);
-    const std::string sub = out.subdir(method_name(method));
-    write_shape(sub, w, diag, 0, pc, method_name(method));
-    if (method == gv::shape_method::sibson) {
-      gio::write_metaimage(sub + "/stiffness.mhd", prob.field);
-      write_seeds(sub + "/seeds.csv", prob.seeds, "sibson/stiffness.mhd");
-      gio::write_metaimage(sub + "/label.mhd", diag.label);
-      gio::write_png(sub + "/labels.png",
-                     gio::label_picture(diag.label, diag.seeds, &prob.field, pc.options("VORONOI CELLS")));
-    }
-  };
-  shape(p, d, gv::shape_method::distance_ratio);
-  const problem_spec<float> ph{field_h, seeds_h, "min_stiffness", 26, threads};
-  shape(ph, solver.in_float.voronoi(ph), gv::shape_method::sibson);
+    write_shape(out.subdir(method_name(opt.method)), w, d, 0, pc, method_name(opt.method));
+  }
+  // Sibson at full resolution on the pictured slice only: every voxel is a query whose new cell is
+  // searched (cost ~ voxels^2 / nodes, and the steak's stiffness varies, so no shortcut applies), so
+  // all 393k voxels take minutes on a CPU; the XY slice z = nz/2 (128 x 96 voxels, where the nodes
+  // lie) is what the picture shows, and shape_functions_at() gives exactly its rows of the full
+  // computation. Points are the slice's voxels in row order: point r is voxel (r % nx, r / nx, nz/2).
+  bar.update(method_name(gv::shape_method::sibson), 0.0);
+  t0 = bar.seconds();
+  opt.method = gv::shape_method::sibson;
+  point_spec slice;
+  for (index_t y = 0; y < g.extent(1); ++y)
+    for (index_t x = 0; x < g.extent(0); ++x) slice.voxels.push_back({x, y, g.extent(2) / 2});
+  {
+    const auto w = solver.in_float.shape_at(p, d, slice, opt);
+    std::printf("  %-16s %7.2f s (%zu voxels: the slice z=%lld at full resolution)\n", method_name(opt.method),
+                bar.seconds() - t0, slice.voxels.size(), (long long)(g.extent(2) / 2));
+    std::fflush(stdout);
+    const std::string sub = out.subdir(method_name(opt.method));
+    write_shape_at(sub, w);
+    write_seeds(sub + "/points.csv", slice.voxels, "stiffness.mhd (the points of weights_at_*; --at of shape-functions)");
+    // node 0's weight on the slice; NaN (drawn as outside) elsewhere and where a voxel has no weight
+    gv::image<float, 3> one(g, std::numeric_limits<float>::quiet_NaN());
+    const std::size_t k = std::size_t(w.k);
+    for (std::size_t r = 0; r < w.points; ++r)
+      for (std::size_t s = 0; s < k; ++s) {
+        if (w.node[r * k + s] < 0) continue;
+        const index_t v = w.voxel[r];
+        if (std::isnan(one[v])) one[v] = 0.0f;
+        if (w.node[r * k + s] == 0) one[v] = w.weight[r * k + s];
+      }
+    auto o = pc.options("SIBSON SHAPE FUNCTION, FULL RESOLUTION, THIS SLICE ONLY");
+    o.xy_only = true;
+    gio::write_png(sub + "/weight_node0.png", gio::weight_picture(one, 0, d.seeds, o));
+  }
+  // the cut: a planar 30 x 20 mm blade along the top of the bone's bar, right of node 0 (the plane
+  // y = 49.5 mm, x 70..100, z 6..26). The bone carries node 0's cell across the steak; the meat above
+  // the blade is now reached from the bone only around it, so the bone's cell loses it to node 9.
+  // (bench/voronoi's cut20 blade, x = 70.5 beside the stem, does the opposite: node 10's cell loses
+  // meat to the bone's.) Updated incrementally and checked against a full recompute (`geovoronoi cut`).
+  bar.update("cut");
+  gv::triangle_mesh blade;
+  blade.vertices = {{70, 49.5, 6}, {100, 49.5, 6}, {100, 49.5, 26}, {70, 49.5, 26}};
+  blade.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const auto blade_set = gv::cut_from_mesh(g, gv::connectivity<26>{}, blade);
+  const gv::cut_table blade_table(blade_set);
+  const problem_spec<float> p_cut{field, seeds, "min_stiffness", 26, threads, nullptr, &blade_table, true};
+  t0 = bar.seconds();
+  auto dc = d;
+  {  // this one problem type only (update_cuts() would instantiate every metric and connectivity)
+    const auto problem = gv::make_problem(g, field, gv::min_stiffness{}, gv::connectivity<26>{});
+    gv::update_in_place(gv::seq, gv::with_cuts(problem, blade_table), dc, blade_set);
+  }
+  const double t_update = bar.seconds() - t0;
+  t0 = bar.seconds();
+  require_equal(dc, solver.in_float.voronoi(p_cut));
+  const double t_full = bar.seconds() - t0;
+  {
+    const std::string sub = out.subdir("cut");
+    std::ofstream obj(sub + "/blade.obj");
+    obj << "# the demo's blade (world coordinates, mm): the plane y = 49.5, x 70..100, z 6..26\n";
+    for (const auto& q : blade.vertices) obj << "v " << q[0] << " " << q[1] << " " << q[2] << "\n";
+    obj << "f 1 2 3\nf 1 3 4\n";
+    if (!obj) throw gio::io_error(sub + "/blade.obj", "write error");
+    const gv::coord<3> none{-1, -1, -1};
+    const std::size_t changed = write_change(sub, d, dc, field, field, &blade_set, none, none, pc);
+    std::printf("  cut (update)     %7.3f s (%zu cut edges, %zu voxels changed; full recompute %.2f s, identical)\n",
+                t_update, blade_set.size(), changed, t_full);
+    std::fflush(stdout);
+  }
   bar.update("writing");
   out.commit();
   bar.finish();
   summary("demo", g, seeds.size(), backend_name, bar.seconds(), dir);
   std::printf("pictures: %s/labels_compare.png (uniform | min_stiffness), %s/labels.png, %s/labels_uniform.png,\n"
-              "          %s/distance.png, %s/distance-ratio/weight_node0.png, %s/sibson/weight_node0.png\n",
-              dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str());
+              "          %s/distance.png, %s/distance-ratio/weight_node0.png, %s/sibson/weight_node0.png,\n"
+              "          %s/cut/cut.png (before | after the cut)\n",
+              dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str());
   return 0;
 }
 
 }  // namespace
 
 const command demo_command = {
-    "demo", "the built-in T-bone steak phantom: cells under two metrics, Distance Ratio and Sibson",
+    "demo", "the built-in T-bone steak phantom: cells under two metrics, Distance Ratio, Sibson, a cut",
     "usage: geovoronoi demo [--out DIR] [--backend B] [--threads N]\n"
     "\n"
     "Builds the T-bone steak phantom (128 x 96 x 32 voxels of 1 mm: meat, fat, bone) with 12 nodes on\n"
     "its middle slice, and computes its Voronoi diagram under min_stiffness and uniform, Distance Ratio\n"
-    "weights, and Sibson weights (at half resolution on CPU backends).\n"
+    "weights on every voxel, Sibson weights at full resolution on the middle slice (z = 16), and the\n"
+    "diagram after a cut beside the bone (incremental update, checked against a full recompute).\n"
     "\n"
     "options:\n"
     "  --out DIR           output folder, replaced as a whole when the run succeeded (default: demo-out)\n"
@@ -174,9 +200,12 @@ const command demo_command = {
     "  labels_uniform.png  the cells under the uniform metric\n"
     "  labels_compare.png  the middle slice under uniform (left) and min_stiffness (right)\n"
     "  distance-ratio/     the files of `geovoronoi shape-functions --method distance-ratio`\n"
-    "  sibson/             the same for Sibson, with its own stiffness.mhd, seeds.csv (the same 12\n"
-    "                      nodes, each moved to the nearest inside voxel of the half-resolution grid on\n"
-    "                      CPU backends), label.mhd, labels.png\n"
+    "  sibson/             Sibson weights (K = 4) of the 12288 voxels of the slice z = 16, exactly the\n"
+    "                      rows of a full-grid run: points.csv (the voxels, row order), weights_at_*.npy\n"
+    "                      (points x nodes CSR), weights_at.csv, weight_node0.png (node 0's weight)\n"
+    "  cut/                blade.obj (the plane y = 49.5 mm, x 70..100, z 6..26: along the top of the\n"
+    "                      bone's bar), changed.mhd and cut.png (cells before | after the cut) as\n"
+    "                      `geovoronoi cut` writes them\n"
     "\n"
     "example:\n"
     "  geovoronoi demo --out demo-out\n",

@@ -1,0 +1,76 @@
+#pragma once
+// What `cut` and `demo` share about a change to a solved problem (cut surfaces, carved voxels): the
+// library's incremental update on a problem_spec, the bit-for-bit check against a full recompute,
+// and the change's outputs (changed.mhd, cut.png; change.cpp).
+
+#include "output_dir.hpp"
+#include "outputs.hpp"
+#include "solve.hpp"
+
+#include <geovoronoi/update.hpp>
+
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+namespace gvcli {
+
+/// Applies the cut edges @p added to diagram @p d (solved with parents on the problem without
+/// them); @p s is the problem with them. The library's update is one host algorithm for every
+/// backend (update.hpp), so it runs with gv::seq.
+template <class T>
+gv::update_stats update_cuts(const problem_spec<T>& s, const gv::cut_set<3>& added, gv::diagram<T, 3>& d) {
+  gv::update_stats st;
+  with_problem(s, [&](const auto& p) {
+    if constexpr (std::decay_t<decltype(p)>::has_cuts)
+      st = gv::update_in_place(gv::seq, p, d, added);
+    else
+      throw std::logic_error("geovoronoi: the problem after a cut carries no cuts");
+  });
+  return st;
+}
+
+/// Removes the voxels @p carved (already outside the domain in @p s) from diagram @p d.
+template <class T>
+gv::update_stats update_carving(const problem_spec<T>& s, const std::vector<gv::index_t>& carved, gv::diagram<T, 3>& d) {
+  gv::update_stats st;
+  with_problem(s, [&](const auto& p) { st = gv::update_in_place(gv::seq, p, d, gv::carving{carved}); });
+  return st;
+}
+
+/// The update's promise: @p upd equals the full recompute @p full bit for bit (distance, label,
+/// parent). A difference is a bug in the library, not the user's input: runtime_failure (exit 1).
+template <class T>
+void require_equal(const gv::diagram<T, 3>& upd, const gv::diagram<T, 3>& full) {
+  const auto& g = full.geometry();
+  for (gv::index_t v = 0; v < g.size(); ++v) {
+    const char* what = nullptr;
+    if (std::memcmp(&upd.distance[v], &full.distance[v], sizeof(T)) != 0) what = "distance";
+    else if (upd.label[v] != full.label[v]) what = "label";
+    else if (upd.parent[v] != full.parent[v]) what = "parent";
+    if (!what) continue;
+    const auto c = g.coords(v);
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "at voxel (%lld,%lld,%lld) (distance %.9g vs %.9g, label %lld vs %lld)",
+                  (long long)c[0], (long long)c[1], (long long)c[2], double(upd.distance[v]), double(full.distance[v]),
+                  (long long)upd.label[v], (long long)full.label[v]);
+    throw runtime_failure(std::string("internal error: the incremental update differs from the full recompute in its ") +
+                          what + " " + buf + "; please report this with the inputs");
+  }
+}
+
+/// A change's pictures and mask, written into @p dir: changed.mhd (MET_UCHAR, 1 where the distance or
+/// the label differs between @p before and @p after) and cut.png (the cells before | after on the
+/// slices through the middle of the change: the cut edges of @p cuts (may be null) and the box
+/// @p box_lo..@p box_hi (inclusive voxel indices; ignored when box_hi[0] < 0); the cut drawn, changed
+/// voxels outlined). Returns the number of changed voxels.
+template <class T>
+std::size_t write_change(const std::string& dir, const gv::diagram<T, 3>& before, const gv::diagram<T, 3>& after,
+                         const gv::image<T, 3>& field_before, const gv::image<T, 3>& field_after,
+                         const gv::cut_set<3>* cuts, const gv::coord<3>& box_lo, const gv::coord<3>& box_hi,
+                         const picture_context& pc);
+
+}  // namespace gvcli
