@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the Python package and runs its pytest suite (python/tests). Meant to be called by the
 # README's test command (scripts/test.sh), after the C++ build: the CLI-parity tests use the C++ tool
-# from build/ when it is there (GEOVORONOI_CLI=path overrides), and are skipped, saying why, otherwise.
+# from build/ or build-test/ when it is there (GEOVORONOI_CLI=path overrides), and are skipped, saying why, otherwise.
 #
 # Python: Debian's /usr/bin/python3 with Debian's NumPy, SciPy, scikit-image and pytest. The package
 # is installed into a virtual environment over those (build-python/venv, --system-site-packages), not
@@ -30,7 +30,7 @@ CMAKE_BUILD_PARALLEL_LEVEL="${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}" \
   --config-settings=build-dir=build-python/wheel --config-settings=cmake.define.GEOVORONOI_PYTHON_WERROR=ON .
 
 if [ -z "${GEOVORONOI_CLI:-}" ]; then
-  for c in build/bin/geovoronoi build/tools/geovoronoi/geovoronoi; do
+  for c in build/bin/geovoronoi build-test/bin/geovoronoi build/tools/geovoronoi/geovoronoi; do
     if [ -f "$c" ] && [ -x "$c" ]; then export GEOVORONOI_CLI="$PWD/$c"; break; fi
   done
 fi

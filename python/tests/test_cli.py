@@ -20,7 +20,8 @@ def find_cli():
     env = os.environ.get("GEOVORONOI_CLI")
     if env:
         return env if os.access(env, os.X_OK) else None
-    for c in ("build/tools/geovoronoi/geovoronoi", "build/tools/geovoronoi", "build/examples/geovoronoi",
+    for c in ("build/bin/geovoronoi", "build-test/bin/geovoronoi", "build/tools/geovoronoi/geovoronoi",
+              "build/tools/geovoronoi", "build/examples/geovoronoi",
               "build-python/cli/examples/geovoronoi"):
         p = ROOT / c
         if p.is_file() and os.access(p, os.X_OK):

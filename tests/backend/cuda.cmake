@@ -11,8 +11,17 @@ foreach(t test_cuda_tiling test_cuda_tile_model)
     target_include_directories(${t} PRIVATE ${PROJECT_SOURCE_DIR}/backends/cuda/include)
   endif()
 endforeach()
+# Where no GPU will run them (scripts/test.sh on a machine without one), the nvcc-compiled suites
+# (test_backend_cuda, test_backend_thrust_cuda) only prove that the code compiles; then they may
+# instantiate the suite's reduced type/connectivity matrix (suite.hpp), which halves their compile
+# time. With a GPU, leave this OFF: the full matrix runs.
+option(GEOVORONOI_TEST_CUDA_REDUCED_MATRIX
+       "Instantiate the reduced backend-suite matrix in the nvcc-compiled suites (for compile-only builds)" OFF)
 if(GEOVORONOI_HAVE_CUDA)
   add_executable(test_backend_cuda ${CMAKE_CURRENT_LIST_DIR}/cuda.cu)
+  if(GEOVORONOI_TEST_CUDA_REDUCED_MATRIX)
+    target_compile_definitions(test_backend_cuda PRIVATE GEOVORONOI_TEST_REDUCED_MATRIX=)
+  endif()
   target_include_directories(test_backend_cuda PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
   target_link_libraries(test_backend_cuda PRIVATE doctest::doctest geovoronoi::cuda geovoronoi_dev_options)
   set_target_properties(test_backend_cuda PROPERTIES CUDA_ARCHITECTURES "${GEOVORONOI_CUDA_ARCHITECTURES}")
