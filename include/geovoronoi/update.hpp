@@ -54,6 +54,7 @@ struct update_stats {
   std::size_t lowered = 0;         ///< valid voxels whose key decreased (stiffer material, new node, added voxels)
   std::size_t sources_added = 0;   ///< node sources queued: new nodes, and nodes whose voxel was invalidated
   std::size_t nodes_removed = 0;   ///< removed nodes whose cell was invalidated
+  std::size_t repairs = 0;         ///< rounds that re-solved keys left without a realiser by rounding
 };
 
 /**
@@ -221,6 +222,34 @@ std::vector<index_t> edit_node_list(const grid<Dim>& g, std::vector<index_t> nod
       nodes[pos] = g.index(x.voxel);
   }
   return nodes;
+}
+
+/// Whether @p v is the source of its label (node l on voxel v at distance 0).
+template <class T, int Dim>
+bool is_source(const diagram<T, Dim>& d, index_t v) {
+  const label_t l = d.label[v];
+  return l != no_label && std::size_t(l) < d.seeds.size() && d.seeds[std::size_t(l)] == v && d.distance[v] == T(0);
+}
+
+/// A full solve in place of the diagram's nodes (with parents), through the update's state.
+template <class P, class Keys, class Heap>
+void solve_all(const P& after, diagram<typename P::value_type, P::dim>& d, Keys& keys, Heap& heap) {
+  using T = typename P::value_type;
+  using kt = key_traits<T>;
+  const index_t n = after.geometry.size();
+  const stencil_walker<P::dim> walk(after);
+  for (index_t v = 0; v < n; ++v) {
+    d.distance[v] = std::numeric_limits<T>::infinity();
+    d.label[v] = no_label;
+  }
+  heap.clear();
+  for (std::size_t j = 0; j < d.seeds.size(); ++j) {
+    const auto k = kt::make(T(0), label_t(j));
+    keys.set(d.seeds[j], k);
+    heap.push(k, d.seeds[j]);
+  }
+  dijkstra::run(after, keys, heap, [](index_t, T nd) { return nd < std::numeric_limits<T>::infinity(); });
+  for (index_t v = 0; v < n; ++v) d.parent[v] = parent_of(after, walk, d, v);
 }
 
 /// Applies @p e to @p d in place (see update_in_place(policy, after, d, change)).
@@ -432,7 +461,60 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
   for (index_t x : lowered) around(x);
   for (index_t x : changed) around(x);
   for (index_t x : restarted) around(x);
-  for (index_t x : reparent) d.parent[x] = parent_of(after, walk, d, x);
+  std::size_t lowered_seen = lowered.size();
+  // ---- 5. repair: a kept or pulled key can lose its last realiser when the key it came from was
+  //         lowered to one whose sum rounds to the same distance with another label (fl(a + w) ==
+  //         fl(b + w) for a < b): the key is then below the full solve's. Such a voxel has no parent;
+  //         its subtree is re-solved like an invalidated one, until every key is realised.
+  for (int round = 0;; ++round) {
+    for (index_t x : reparent) d.parent[x] = parent_of(after, walk, d, x);
+    std::vector<index_t> redo;
+    for (index_t x : reparent)
+      if (d.label[x] != no_label && d.parent[x] == no_index && !is_source(d, x)) redo.push_back(x);
+    if (redo.empty()) break;
+    ++st.repairs;
+    if (round == 64) {  // a safety net: a full solve in place, exact by construction
+      solve_all(after, d, keys, heap);
+      st.reparented += std::size_t(n);
+      return st;
+    }
+    voxel_bits in_redo(n);
+    for (index_t x : redo) in_redo.insert(x);
+    for (std::size_t i = 0; i < redo.size(); ++i) {
+      const index_t x = redo[i];
+      walk.for_each_neighbour(whole, x, [&](int, index_t y) {
+        if (d.parent[y] == x && in_redo.insert(y)) redo.push_back(y);
+      });
+    }
+    for (index_t x : redo) {
+      d.distance[x] = inf;
+      d.label[x] = no_label;
+      d.parent[x] = no_index;
+    }
+    heap.clear();  // the radix heap is monotone: start a new run from an empty one
+    for (index_t x : redo) {
+      if (!after.inside(x)) continue;
+      auto best = kt::unreached;
+      const T fx = after.field[x];
+      walk.for_each_neighbour(after, x, [&](int k, index_t u) {
+        if (in_redo.test(u) || d.label[u] == no_label) return;
+        const T nd = d.distance[u] + after.metric(after.edges.length[k], after.field[u], fx);
+        if (!(nd < inf)) return;
+        const auto c = kt::make(nd, d.label[u]);
+        if (c < best) best = c;
+      });
+      const long j = node_at(x);  // a node's voxel that another node's key had taken at distance 0
+      if (j >= 0 && kt::make(T(0), label_t(j)) < best) best = kt::make(T(0), label_t(j));
+      if (best != kt::unreached) {
+        keys.set(x, best);
+        heap.push(best, x);
+      }
+    }
+    st.settled += dijkstra::run(after, keys, heap, [](index_t, T nd) { return nd < std::numeric_limits<T>::infinity(); });
+    for (index_t x : redo) around(x);
+    for (std::size_t i = lowered_seen; i < lowered.size(); ++i) around(lowered[i]);
+    lowered_seen = lowered.size();
+  }
   st.reparented = reparent.size();
   return st;
 }
