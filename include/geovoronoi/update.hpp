@@ -14,7 +14,9 @@
 /// voxels and the new sources, reaches the least fixed point of the new problem: the full solve's.
 /// Parents are recomputed, with the library's rule (the lowest-index neighbour that realises the
 /// key), wherever a key or an incident edge changed and next to it: nowhere else can the set of
-/// realising neighbours change.
+/// realising neighbours change. A key that rounding left without any realiser (see apply()) is
+/// re-solved with its subtree; once every reached voxel has a realiser, the keys are the unique
+/// solution the full solve computes.
 
 #include <geovoronoi/cut.hpp>
 #include <geovoronoi/detail/dijkstra/engine.hpp>
@@ -113,6 +115,7 @@ class voxel_bits {
     w |= b;
     return true;
   }
+  void erase(index_t v) noexcept { w_[std::size_t(v >> 6)] &= ~(std::uint64_t(1) << (v & 63)); }
 
  private:
   std::vector<std::uint64_t> w_;
@@ -447,29 +450,53 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
   for (index_t v : lowered)
     if (!in_invalid.test(v)) ++st.lowered;
 
-  // ---- 4. parents: where a key or an incident edge changed, and next to it -----------------------
-  // (a voxel's set of realisers changes only if its key, a neighbour's key or an edge between them did)
-  voxel_bits in_parent(n);
-  std::vector<index_t> reparent;
-  auto around = [&](index_t x) {
-    if (in_parent.insert(x)) reparent.push_back(x);
-    walk.for_each_neighbour(after, x, [&](int, index_t u) {
-      if (in_parent.insert(u)) reparent.push_back(u);
-    });
+  // ---- 4. parents: a voxel's set of realisers changes only if its key, a neighbour's key or an
+  //         edge between them changed. The parent rule runs on the voxels whose key changed, on the
+  //         changed voxels and their neighbours (their edges changed), and on the voxels whose parent
+  //         changed key; any other neighbour of a changed key only takes it as parent when it now
+  //         realises the neighbour's key and has a lower index than its parent (an O(1) test).
+  std::vector<index_t> checked;
+  auto fix_parents = [&](const std::vector<const std::vector<index_t>*>& lists, bool edges_changed) {
+    voxel_bits marked(n);
+    std::vector<index_t> keyed;
+    checked.clear();
+    for (const auto* l : lists)
+      for (index_t x : *l)
+        if (marked.insert(x)) keyed.push_back(x), checked.push_back(x);
+    if (edges_changed)
+      for (index_t x : changed) {
+        if (marked.insert(x)) checked.push_back(x);
+        walk.for_each_neighbour(after, x, [&](int, index_t u) {
+          if (marked.insert(u)) checked.push_back(u);
+        });
+      }
+    for (index_t x : checked) d.parent[x] = parent_of(after, walk, d, x);
+    for (index_t x : keyed) {
+      const label_t lx = d.label[x];
+      const T dx = d.distance[x];
+      const T fx = after.field[x];
+      walk.for_each_neighbour(after, x, [&](int k, index_t y) {
+        if (marked.test(y)) return;
+        if (d.parent[y] == x) {  // its parent's key changed: the rule decides again
+          marked.insert(y);
+          checked.push_back(y);
+          d.parent[y] = parent_of(after, walk, d, y);
+          return;
+        }
+        if (lx == no_label || d.label[y] != lx || !(dx <= d.distance[y]) || !(x < d.parent[y])) return;
+        if (d.distance[y] == dx + after.metric(after.edges.length[k], fx, after.field[y])) d.parent[y] = x;
+      });
+    }
+    st.reparented += checked.size();
   };
-  for (index_t x : invalid) around(x);
-  for (index_t x : lowered) around(x);
-  for (index_t x : changed) around(x);
-  for (index_t x : restarted) around(x);
-  std::size_t lowered_seen = lowered.size();
+  fix_parents({&invalid, &lowered, &restarted}, any_field);
   // ---- 5. repair: a kept or pulled key can lose its last realiser when the key it came from was
   //         lowered to one whose sum rounds to the same distance with another label (fl(a + w) ==
   //         fl(b + w) for a < b): the key is then below the full solve's. Such a voxel has no parent;
   //         its subtree is re-solved like an invalidated one, until every key is realised.
   for (int round = 0;; ++round) {
-    for (index_t x : reparent) d.parent[x] = parent_of(after, walk, d, x);
     std::vector<index_t> redo;
-    for (index_t x : reparent)
+    for (index_t x : checked)
       if (d.label[x] != no_label && d.parent[x] == no_index && !is_source(d, x)) redo.push_back(x);
     if (redo.empty()) break;
     ++st.repairs;
@@ -510,12 +537,11 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
         heap.push(best, x);
       }
     }
+    for (index_t x : lowered) lowered_bits.erase(x);
+    lowered.clear();
     st.settled += dijkstra::run(after, keys, heap, [](index_t, T nd) { return nd < std::numeric_limits<T>::infinity(); });
-    for (index_t x : redo) around(x);
-    for (std::size_t i = lowered_seen; i < lowered.size(); ++i) around(lowered[i]);
-    lowered_seen = lowered.size();
+    fix_parents({&redo, &lowered}, false);
   }
-  st.reparented = reparent.size();
   return st;
 }
 
