@@ -255,6 +255,56 @@ void solve_all(const P& after, diagram<typename P::value_type, P::dim>& d, Keys&
   for (index_t v = 0; v < n; ++v) d.parent[v] = parent_of(after, walk, d, v);
 }
 
+/// Dijkstra over the diagram's own images that may lower any key (the engine's relaxation, bit for
+/// bit: same skip, mask, weight check and overflow rule), recording every voxel it lowers and setting
+/// each settled voxel's parent as it pops: its realisers have smaller keys, so they are final then.
+template <class P>
+std::size_t settle(const P& after, diagram<typename P::value_type, P::dim>& d, radix_heap<typename P::value_type>& heap,
+                   const stencil_walker<P::dim>& walk, voxel_bits& lowered_bits, std::vector<index_t>& lowered) {
+  using T = typename P::value_type;
+  using kt = key_traits<T>;
+  const T inf = std::numeric_limits<T>::infinity();
+  std::size_t settled = 0;
+  while (!heap.empty()) {
+    const auto it = heap.pop();
+    const index_t v = it.voxel;
+    const label_t l = d.label[v];
+    if (l == no_label || it.key != kt::make(d.distance[v], l)) continue;  // stale entry
+    ++settled;
+    const T dv = d.distance[v];
+    const T fv = after.field[v];
+    const bool source = std::size_t(l) < d.seeds.size() && d.seeds[std::size_t(l)] == v && dv == T(0);
+    index_t best = no_index;
+    walk.for_each_neighbour(after, v, [&](int k, index_t u) {
+      const label_t lu = d.label[u];
+      const T du = d.distance[u];
+      if (lu == l && du <= dv) {  // no larger key: nothing to relax; a realiser if u + w(u -> v) gives v's key
+        if (!source && (best == no_index || u < best) &&
+            kt::make(du + after.metric(after.edges.length[k], after.field[u], fv), l) == it.key)
+          best = u;
+        return;
+      }
+      const auto ku = lu == no_label ? kt::unreached : kt::make(du, lu);
+      if (!(it.key < ku)) return;
+      const T fu = after.field[u];
+      if (!detail::inside<typename P::metric_type>(fu)) return;
+      const T w = after.metric(after.edges.length[k], fv, fu);
+      if (!(w >= T(0))) dijkstra::bad_weight(double(w));
+      const T nd = dv + w;
+      if (!(nd < inf)) return;
+      const auto nk = kt::make(nd, l);
+      if (nk < ku) {
+        d.distance[u] = kt::distance(nk);
+        d.label[u] = l;
+        if (lowered_bits.insert(u)) lowered.push_back(u);
+        heap.push(nk, u);
+      }
+    });
+    d.parent[v] = best;
+  }
+  return settled;
+}
+
 /// Applies @p e to @p d in place (see update_in_place(policy, after, d, change)).
 template <class P>
 update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, const edit_refs<P::dim>& e) {
@@ -446,7 +496,7 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
     }
   st.boundary = boundary;
   // the accept rule of the unbounded solve: a sum that overflows to +inf reaches nothing
-  st.settled = dijkstra::run(after, keys, heap, [](index_t, T nd) { return nd < std::numeric_limits<T>::infinity(); });
+  st.settled = settle(after, d, heap, walk, lowered_bits, lowered);
   for (index_t v : lowered)
     if (!in_invalid.test(v)) ++st.lowered;
 
@@ -470,7 +520,8 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
           if (marked.insert(u)) checked.push_back(u);
         });
       }
-    for (index_t x : checked) d.parent[x] = parent_of(after, walk, d, x);
+    // the keyed voxels got their parent when they settled (or stay unreached, without one)
+    for (std::size_t i = keyed.size(); i < checked.size(); ++i) d.parent[checked[i]] = parent_of(after, walk, d, checked[i]);
     for (index_t x : keyed) {
       const label_t lx = d.label[x];
       const T dx = d.distance[x];
@@ -539,7 +590,7 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
     }
     for (index_t x : lowered) lowered_bits.erase(x);
     lowered.clear();
-    st.settled += dijkstra::run(after, keys, heap, [](index_t, T nd) { return nd < std::numeric_limits<T>::infinity(); });
+    st.settled += settle(after, d, heap, walk, lowered_bits, lowered);
     fix_parents({&redo, &lowered}, false);
   }
   return st;
