@@ -247,3 +247,144 @@ TEST_CASE("update: a carving that keeps a voxel inside or removes a seed is refu
   CHECK(u.label[4] == gv::no_label);
   CHECK(u.parent[2] == 1);
 }
+
+// ---- field edits, added voxels, node edits, and all of them together (update_edits.hpp) ----------
+#include "update_edits.hpp"
+
+namespace {
+template <class T, int Dim, int N>
+void edits_everywhere(int trials, int steps, unsigned kinds) {
+  gvtest::edit_all_metrics<T, Dim, N>(gv::seq, trials, steps, kinds);
+}
+void edits_all_connectivities(int trials, int steps, unsigned kinds) {
+  edits_everywhere<float, 2, 4>(trials, steps, kinds);
+  edits_everywhere<float, 2, 8>(trials, steps, kinds);
+  edits_everywhere<double, 2, 8>(trials / 2, steps, kinds);
+  edits_everywhere<float, 3, 6>(trials, steps, kinds);
+  edits_everywhere<float, 3, 18>(trials, steps, kinds);
+  edits_everywhere<float, 3, 26>(trials, steps, kinds);
+  edits_everywhere<double, 3, 26>(trials / 2, steps, kinds);
+}
+}  // namespace
+
+TEST_CASE("update after field edits (stiffer, softer, mixed, no-op) equals a full recompute, bit for bit") {
+  const auto before = gvtest::totals();
+  edits_all_connectivities(60, 1, gvtest::field_edit);
+  const auto after = gvtest::totals();
+  MESSAGE("updates " << after.updates - before.updates << ", invalidated " << after.invalidated - before.invalidated
+                     << ", lowered " << after.lowered - before.lowered);
+  CHECK(after.invalidated > before.invalidated);
+  CHECK(after.lowered > before.lowered);
+}
+
+TEST_CASE("update after adding voxels to the domain equals a full recompute, bit for bit") {
+  const auto before = gvtest::totals();
+  edits_all_connectivities(30, 2, gvtest::add_edit);
+  CHECK(gvtest::totals().lowered > before.lowered);
+}
+
+TEST_CASE("update after node edits (add, remove, move, reorder) equals a full solve with the new node list") {
+  const auto before = gvtest::totals();
+  edits_all_connectivities(40, 2, gvtest::node_edits);
+  const auto after = gvtest::totals();
+  CHECK(after.sources > before.sources);
+  CHECK(after.removed > before.removed);
+}
+
+TEST_CASE("update after sequences of combined edits (cuts, carving, added, field, nodes) equals a full recompute") {
+  edits_all_connectivities(40, 4, gvtest::field_edit | gvtest::carve_edit | gvtest::add_edit | gvtest::node_edits |
+                                      gvtest::cut_edit);
+  const auto& t = gvtest::totals();
+  MESSAGE("all edit tests: " << t.updates << " updates, " << t.invalidated << " voxels invalidated, " << t.lowered
+                             << " lowered, " << t.sources << " sources queued, " << t.removed << " nodes removed, " << t.repairs
+                             << " repair rounds");
+}
+
+TEST_CASE("update: labels renumber as in a full solve with the new node list") {
+  // a line of 9 voxels, nodes at x = 1 and x = 7
+  const gv::grid<2> g({9, 1});
+  std::vector<float> f(9, 1.0f);
+  const auto p = gv::make_problem(g, f, gv::uniform{}, gv::connectivity<4>{});
+  const auto d = gv::voronoi(gv::seq, p, std::vector<gv::coord<2>>{{1, 0}, {7, 0}}, gv::solve_options{true});
+  CHECK(d.label[4] == 0);  // the tie at x = 4 goes to the lower label
+  // insert a node at x = 4, position 0: the old labels move up by one; old ties keep their outcome
+  gv::change<2> c;
+  c.nodes = {gv::node_edit<2>::add({4, 0}, 0)};
+  const auto u = gv::update(gv::seq, p, d, c);
+  CHECK(u.seeds == std::vector<gv::index_t>{4, 1, 7});
+  CHECK(u.label[0] == 1);
+  CHECK(u.label[4] == 0);
+  CHECK(u.label[8] == 2);
+  CHECK(u.label[2] == 1);  // distance 1 to x = 1, 2 to x = 4
+  // remove node 0 (x = 4) again: back to the first diagram
+  gv::change<2> r;
+  r.nodes = {gv::node_edit<2>::remove(0)};
+  const auto back = gv::update(gv::seq, p, u, r);
+  gvtest::require_same_diagram(back, d, "remove");
+  // move node 1 (x = 7) to x = 5: its label stays 1
+  gv::change<2> m;
+  m.nodes = {gv::node_edit<2>::move(1, {5, 0})};
+  gv::update_stats s;
+  const auto moved = gv::update(gv::seq, p, d, m, &s);
+  CHECK(moved.seeds == std::vector<gv::index_t>{1, 5});
+  CHECK(moved.label[8] == 1);
+  CHECK(moved.label[3] == 0);  // the tie at x = 3 goes to label 0
+  CHECK(s.nodes_removed == 1);
+  CHECK(s.sources_added == 1);
+}
+
+TEST_CASE("update: bad changes are refused with a message naming the voxel, node or edit") {
+  const gv::grid<2> g({6, 2});
+  std::vector<float> f(12, 1.0f);
+  f[g.index({5, 1})] = 0.0f;
+  const auto p = gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<8>{});
+  const auto d = gv::voronoi(gv::seq, p, std::vector<gv::coord<2>>{{0, 0}, {3, 1}}, gv::solve_options{true});
+  auto refused = [&](const gv::change<2>& c, const char* text) {
+    INFO(text);
+    CHECK_THROWS_WITH_AS(gv::update(gv::seq, p, d, c), doctest::Contains(text), std::invalid_argument);
+  };
+  gv::change<2> c;
+  c.added = {g.index({5, 1})};
+  refused(c, "added voxel (5, 1) is outside the domain");
+  c = {};
+  c.restiffened = {12};
+  refused(c, "restiffened voxel 12 is outside the grid");
+  c = {};
+  c.carved = {-1};
+  refused(c, "carved voxel -1 is outside the grid");
+  c = {};
+  c.nodes = {gv::node_edit<2>::remove(2)};
+  refused(c, "node edit 0 names node position 2");
+  c.nodes = {gv::node_edit<2>::add({1, 0}), gv::node_edit<2>::move(5, {2, 0})};
+  refused(c, "node edit 1 names node position 5");
+  c.nodes = {gv::node_edit<2>::add({6, 0})};
+  refused(c, "outside the grid");
+  c.nodes = {gv::node_edit<2>::add({5, 1})};
+  refused(c, "node 2 at (5, 1) (voxel 11) lies on a masked voxel");
+  c.nodes = {gv::node_edit<2>::move(0, {3, 1})};
+  refused(c, "share the voxel");
+  c.nodes = {gv::node_edit<2>::remove(0), gv::node_edit<2>::remove(0)};
+  refused(c, "node list is empty");
+  // a node whose voxel leaves the domain must be removed, not restiffened or carved away
+  f[g.index({3, 1})] = 0.0f;
+  c = {};
+  c.restiffened = {g.index({3, 1})};
+  refused(c, "node 1 at (3, 1) (voxel 9) lies on a masked voxel");
+  c = {};
+  c.carved = {g.index({3, 1})};
+  refused(c, "removes seed 1");
+  // ... which works
+  c.nodes = {gv::node_edit<2>::remove(1)};
+  const auto u = gv::update(gv::seq, p, d, c);
+  gvtest::require_same_diagram(u, gv::voronoi(gv::seq, p, std::vector<gv::coord<2>>{{0, 0}}, gv::solve_options{true}),
+                               "carve a removed node");
+  // a cut in a change applied to a problem without cuts
+  f[g.index({3, 1})] = 1.0f;
+  gv::cut_set<2> cut(g, gv::connectivity<8>{});
+  constexpr auto offs = gv::connectivity<8>::offsets();
+  for (int k = 0; k < 8; ++k)
+    if (offs[k][0] == 1 && offs[k][1] == 0) cut.insert(0, k);
+  c = {};
+  c.cut = cut;
+  refused(c, "not cut in the problem after it");
+}

@@ -111,6 +111,147 @@ void bench_update_steak128_carve8(benchmark::State& state) {
   state.counters["invalidated"] = double(s.invalidated);
   state.counters["boundary"] = double(s.boundary);
 }
+
+// `update/seq/steak128/stiffen8` and `soften8`: the field of the same 8^3 voxels doubled (stiffer) or
+// halved (softer); restiffened voxels, same restore scheme.
+void bench_update_steak128_restiffen8(benchmark::State& state, float factor) {
+  const auto& c = steak_cut_case::get();
+  const auto& g = c.field.geometry();
+  const auto p = gvb::make_problem(g, c.field, gvb::min_stiffness{}, gvb::connectivity<26>{});
+  const auto before = gvb::voronoi(gvb::seq, p, c.seeds, gvb::solve_options{true});
+  auto edited = c.field;
+  gvb::change<3> ch;
+  for (gvb::index_t z = 12; z < 20; ++z)
+    for (gvb::index_t y = 62; y < 70; ++y)
+      for (gvb::index_t x = 66; x < 74; ++x) {
+        const auto v = g.index({x, y, z});
+        ch.restiffened.push_back(v);
+        edited[v] *= factor;
+      }
+  const auto after = gvb::make_problem(g, edited, gvb::min_stiffness{}, gvb::connectivity<26>{});
+  auto d = before;
+  gvb::update_stats s;
+  for (auto _ : state) {
+    state.PauseTiming();
+    d.distance = before.distance;
+    d.label = before.label;
+    d.parent = before.parent;
+    state.ResumeTiming();
+    s = gvb::update_in_place(gvb::seq, after, d, ch);
+    benchmark::DoNotOptimize(d);
+  }
+  state.counters["invalidated"] = double(s.invalidated);
+  state.counters["lowered"] = double(s.lowered);
+  state.counters["settled"] = double(s.settled);
+}
+
+// `update/seq/steak128/add_node`: a 13th node appended at (40, 30, 8); `move_node`: the node whose
+// cell has the median size (the 6th smallest of 12) moves by (+3, +2, 0) voxels; `move_node_largest`:
+// the node with the largest cell (about 40 % of the domain) does. A move re-solves the moved node's
+// whole cell, so its cost is proportional to that cell. The diagram (and its node list) is restored
+// outside the timer.
+void bench_update_steak128_nodes(benchmark::State& state, int move) {
+  const auto& c = steak_cut_case::get();
+  const auto& g = c.field.geometry();
+  const auto p = gvb::make_problem(g, c.field, gvb::min_stiffness{}, gvb::connectivity<26>{});
+  const auto before = gvb::voronoi(gvb::seq, p, c.seeds, gvb::solve_options{true});
+  gvb::change<3> ch;
+  if (move) {
+    std::vector<std::pair<gvb::index_t, std::size_t>> cells(c.seeds.size());
+    for (std::size_t i = 0; i < cells.size(); ++i) cells[i] = {0, i};
+    for (gvb::index_t v = 0; v < g.size(); ++v)
+      if (before.label[v] >= 0) ++cells[std::size_t(before.label[v])].first;
+    std::sort(cells.begin(), cells.end());
+    const std::size_t which = move == 1 ? cells[cells.size() / 2 - 1].second : cells.back().second;
+    state.counters["node"] = double(which);
+    state.counters["cell"] = double(move == 1 ? cells[cells.size() / 2 - 1].first : cells.back().first);
+    auto to = c.seeds[which];
+    to[0] += 3, to[1] += 2;
+    while (!(c.field[g.index(to)] > 0.0f)) --to[0];
+    ch.nodes = {gvb::node_edit<3>::move(which, to)};
+  } else {
+    gvb::coord<3> at{40, 30, 8};  // inside the steak (meat); the first inside voxel along x otherwise
+    while (!(c.field[g.index(at)] > 0.0f)) ++at[0];
+    ch.nodes = {gvb::node_edit<3>::add(at)};
+  }
+  auto d = before;
+  gvb::update_stats s;
+  for (auto _ : state) {
+    state.PauseTiming();
+    d.distance = before.distance;
+    d.label = before.label;
+    d.parent = before.parent;
+    d.seeds = before.seeds;
+    state.ResumeTiming();
+    s = gvb::update_in_place(gvb::seq, p, d, ch);
+    benchmark::DoNotOptimize(d);
+  }
+  state.counters["invalidated"] = double(s.invalidated);
+  state.counters["lowered"] = double(s.lowered);
+  state.counters["settled"] = double(s.settled);
+}
+
+// `update/seq/steak128/sweep`: a vertical blade (z 6..26 mm) sweeps 30 mm along y in 10 steps (3 mm
+// and 0.8 mm along x each); every step cuts the strip swept since the previous position and updates
+// the diagram. One iteration is one step (the diagram goes back to the uncut one before step 0,
+// outside the timer), so the time is per update. `sweep_with_cut` also times, per step, building the
+// strip's cut set (cut_from_blade_sweep), merging it and building the table of all cuts so far.
+struct sweep_case {
+  static constexpr int steps = 10;
+  std::vector<std::vector<gvb::point<3>>> positions;
+  std::vector<gvb::cut_set<3>> strip;
+  std::vector<gvb::cut_table> table;  // every cut up to and including step t
+  sweep_case() {
+    const auto& c = steak_cut_case::get();
+    const auto& g = c.field.geometry();
+    for (int t = 0; t <= steps; ++t)
+      positions.push_back({{66.5 + 0.8 * t, 50.0 + 3.0 * t, 6.0}, {66.5 + 0.8 * t, 50.0 + 3.0 * t, 26.0}});
+    gvb::cut_set<3> all(g, gvb::connectivity<26>{});
+    for (int t = 0; t < steps; ++t) {
+      strip.push_back(gvb::cut_from_blade_sweep(g, gvb::connectivity<26>{}, {positions[t], positions[t + 1]}));
+      all.merge(strip.back());
+      table.emplace_back(all);
+    }
+  }
+  static const sweep_case& get() {
+    static const sweep_case s;
+    return s;
+  }
+};
+
+void bench_update_steak128_sweep(benchmark::State& state, bool with_cut) {
+  const auto& c = steak_cut_case::get();
+  const auto& sw = sweep_case::get();
+  const auto& g = c.field.geometry();
+  const auto p = gvb::make_problem(g, c.field, gvb::min_stiffness{}, gvb::connectivity<26>{});
+  const auto before = gvb::voronoi(gvb::seq, p, c.seeds, gvb::solve_options{true});
+  auto d = before;
+  gvb::cut_set<3> all(g, gvb::connectivity<26>{});
+  std::size_t t = 0, invalidated = 0, updates = 0;
+  for (auto _ : state) {
+    if (t % sweep_case::steps == 0) {
+      state.PauseTiming();
+      d.distance = before.distance;
+      d.label = before.label;
+      d.parent = before.parent;
+      all = gvb::cut_set<3>(g, gvb::connectivity<26>{});
+      state.ResumeTiming();
+    }
+    const int step = int(t % sweep_case::steps);
+    if (with_cut) {
+      auto piece = gvb::cut_from_blade_sweep(g, gvb::connectivity<26>{}, {sw.positions[step], sw.positions[step + 1]});
+      all.merge(piece);
+      const gvb::cut_table table(all);
+      invalidated += gvb::update_in_place(gvb::seq, gvb::with_cuts(p, table), d, piece).invalidated;
+    } else {
+      invalidated += gvb::update_in_place(gvb::seq, gvb::with_cuts(p, sw.table[step]), d, sw.strip[step]).invalidated;
+    }
+    benchmark::DoNotOptimize(d);
+    ++t, ++updates;
+  }
+  state.counters["updates_per_s"] = benchmark::Counter(double(updates), benchmark::Counter::kIsRate);
+  state.counters["invalidated_per_step"] = double(invalidated) / double(updates);
+}
 }  // namespace
 
 GEOVORONOI_BENCH_REGISTER(register_update_cases) {
@@ -123,6 +264,40 @@ GEOVORONOI_BENCH_REGISTER(register_update_cases) {
       ->UseRealTime()
       ->Apply(geovoronoi::bench::min_time_1s);
   benchmark::RegisterBenchmark("update/seq/steak128/cut20", bench_update_steak128_cut20)
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Apply(geovoronoi::bench::min_time_1s);
+  benchmark::RegisterBenchmark("update/seq/steak128/stiffen8",
+                               [](benchmark::State& s) { bench_update_steak128_restiffen8(s, 2.0f); })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Apply(geovoronoi::bench::min_time_1s);
+  benchmark::RegisterBenchmark("update/seq/steak128/soften8",
+                               [](benchmark::State& s) { bench_update_steak128_restiffen8(s, 0.5f); })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Apply(geovoronoi::bench::min_time_1s);
+  benchmark::RegisterBenchmark("update/seq/steak128/add_node",
+                               [](benchmark::State& s) { bench_update_steak128_nodes(s, 0); })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Apply(geovoronoi::bench::min_time_1s);
+  benchmark::RegisterBenchmark("update/seq/steak128/move_node",
+                               [](benchmark::State& s) { bench_update_steak128_nodes(s, 1); })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Apply(geovoronoi::bench::min_time_1s);
+  benchmark::RegisterBenchmark("update/seq/steak128/move_node_largest",
+                               [](benchmark::State& s) { bench_update_steak128_nodes(s, 2); })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Apply(geovoronoi::bench::min_time_1s);
+  benchmark::RegisterBenchmark("update/seq/steak128/sweep", [](benchmark::State& s) { bench_update_steak128_sweep(s, false); })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Apply(geovoronoi::bench::min_time_1s);
+  benchmark::RegisterBenchmark("update/seq/steak128/sweep_with_cut",
+                               [](benchmark::State& s) { bench_update_steak128_sweep(s, true); })
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime()
       ->Apply(geovoronoi::bench::min_time_1s);
