@@ -61,11 +61,11 @@ void bench_full_steak128(benchmark::State& state) {
   }
 }
 
-void bench_update_steak128_cut20(benchmark::State& state) {
-  const auto& c = steak_cut_case::get();
-  const auto p = gvb::make_problem(c.field.geometry(), c.field, gvb::min_stiffness{}, gvb::connectivity<26>{});
-  const auto after = gvb::with_cuts(p, c.table);
-  const auto before = gvb::voronoi(gvb::seq, p, c.seeds, gvb::solve_options{true});
+/// Times update_in_place(seq, after, d, change) on a copy of @p before that is restored outside the
+/// timer before every iteration; returns the last iteration's statistics.
+template <class P, class Change>
+gvb::update_stats time_updates(benchmark::State& state, const P& after, const gvb::diagram<float, 3>& before,
+                               const Change& change) {
   auto d = before;
   gvb::update_stats s;
   for (auto _ : state) {
@@ -73,10 +73,20 @@ void bench_update_steak128_cut20(benchmark::State& state) {
     d.distance = before.distance;
     d.label = before.label;
     d.parent = before.parent;
+    d.seeds = before.seeds;
     state.ResumeTiming();
-    s = gvb::update_in_place(gvb::seq, after, d, c.blade);
+    s = gvb::update_in_place(gvb::seq, after, d, change);
     benchmark::DoNotOptimize(d);
   }
+  return s;
+}
+
+void bench_update_steak128_cut20(benchmark::State& state) {
+  const auto& c = steak_cut_case::get();
+  const auto p = gvb::make_problem(c.field.geometry(), c.field, gvb::min_stiffness{}, gvb::connectivity<26>{});
+  const auto after = gvb::with_cuts(p, c.table);
+  const auto before = gvb::voronoi(gvb::seq, p, c.seeds, gvb::solve_options{true});
+  const auto s = time_updates(state, after, before, c.blade);
   state.counters["cut_edges"] = double(c.blade.size());
   state.counters["invalidated"] = double(s.invalidated);
   state.counters["boundary"] = double(s.boundary);
@@ -97,17 +107,7 @@ void bench_update_steak128_carve8(benchmark::State& state) {
         carved_field[carve.voxels.back()] = 0.0f;
       }
   const auto after = gvb::make_problem(g, carved_field, gvb::min_stiffness{}, gvb::connectivity<26>{});
-  auto d = before;
-  gvb::update_stats s;
-  for (auto _ : state) {
-    state.PauseTiming();
-    d.distance = before.distance;
-    d.label = before.label;
-    d.parent = before.parent;
-    state.ResumeTiming();
-    s = gvb::update_in_place(gvb::seq, after, d, carve);
-    benchmark::DoNotOptimize(d);
-  }
+  const auto s = time_updates(state, after, before, carve);
   state.counters["invalidated"] = double(s.invalidated);
   state.counters["boundary"] = double(s.boundary);
 }
@@ -129,17 +129,7 @@ void bench_update_steak128_restiffen8(benchmark::State& state, float factor) {
         edited[v] *= factor;
       }
   const auto after = gvb::make_problem(g, edited, gvb::min_stiffness{}, gvb::connectivity<26>{});
-  auto d = before;
-  gvb::update_stats s;
-  for (auto _ : state) {
-    state.PauseTiming();
-    d.distance = before.distance;
-    d.label = before.label;
-    d.parent = before.parent;
-    state.ResumeTiming();
-    s = gvb::update_in_place(gvb::seq, after, d, ch);
-    benchmark::DoNotOptimize(d);
-  }
+  const auto s = time_updates(state, after, before, ch);
   state.counters["invalidated"] = double(s.invalidated);
   state.counters["lowered"] = double(s.lowered);
   state.counters["settled"] = double(s.settled);
@@ -174,18 +164,7 @@ void bench_update_steak128_nodes(benchmark::State& state, int move) {
     while (!(c.field[g.index(at)] > 0.0f)) ++at[0];
     ch.nodes = {gvb::node_edit<3>::add(at)};
   }
-  auto d = before;
-  gvb::update_stats s;
-  for (auto _ : state) {
-    state.PauseTiming();
-    d.distance = before.distance;
-    d.label = before.label;
-    d.parent = before.parent;
-    d.seeds = before.seeds;
-    state.ResumeTiming();
-    s = gvb::update_in_place(gvb::seq, p, d, ch);
-    benchmark::DoNotOptimize(d);
-  }
+  const auto s = time_updates(state, p, before, ch);
   state.counters["invalidated"] = double(s.invalidated);
   state.counters["lowered"] = double(s.lowered);
   state.counters["settled"] = double(s.settled);
