@@ -641,29 +641,6 @@ update_stats update_in_place(const Policy&, const P& after, diagram<typename P::
   return detail::update::apply(after, d, e);
 }
 
-/// @brief The diagram after the carving @p carved; see update_in_place().
-template <class Policy, class P, std::enable_if_t<is_backend_policy_v<Policy>, int> = 0>
-diagram<typename P::value_type, P::dim> update(const Policy& policy, const P& after,
-                                               const diagram<typename P::value_type, P::dim>& before,
-                                               const carving& carved, update_stats* stats = nullptr) {
-  auto d = before;
-  const auto s = update_in_place(policy, after, d, carved);
-  if (stats) *stats = s;
-  return d;
-}
-
-/// @brief The diagram after the edges of @p added were cut, from the diagram @p before (computed
-///        with parents); bitwise identical to a full solve of @p after. See update_in_place().
-template <class Policy, class P, std::enable_if_t<is_backend_policy_v<Policy>, int> = 0>
-diagram<typename P::value_type, P::dim> update(const Policy& policy, const P& after,
-                                               const diagram<typename P::value_type, P::dim>& before,
-                                               const cut_set<P::dim>& added, update_stats* stats = nullptr) {
-  auto d = before;
-  const auto s = update_in_place(policy, after, d, added);
-  if (stats) *stats = s;
-  return d;
-}
-
 /**
  * @brief Updates diagram @p d, in place, after the change @p c (cuts, carved, added and
  *        restiffened voxels, node edits, in any combination): afterwards it equals
@@ -709,12 +686,14 @@ update_stats update_in_place(const Policy&, const P& after, diagram<typename P::
   return detail::update::apply(after, d, e);
 }
 
-/// @brief The diagram after the change @p c, from the diagram @p before (computed with parents);
-///        bitwise identical to a full solve of @p after with the edited node list. See update_in_place().
-template <class Policy, class P, std::enable_if_t<is_backend_policy_v<Policy>, int> = 0>
+/// @brief The diagram after the change @p c (a cut_set of newly cut edges, a carving or a change),
+///        from the diagram @p before (computed with parents): a copy of @p before updated by the
+///        matching update_in_place(), so bitwise identical to a full solve of @p after (with the
+///        edited node list for a change). @p stats, when given, receives what the update did.
+template <class Policy, class P, class Change, std::enable_if_t<is_backend_policy_v<Policy>, int> = 0>
 diagram<typename P::value_type, P::dim> update(const Policy& policy, const P& after,
                                                const diagram<typename P::value_type, P::dim>& before,
-                                               const change<P::dim>& c, update_stats* stats = nullptr) {
+                                               const Change& c, update_stats* stats = nullptr) {
   auto d = before;
   const auto s = update_in_place(policy, after, d, c);
   if (stats) *stats = s;
