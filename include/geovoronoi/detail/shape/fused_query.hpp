@@ -136,57 +136,23 @@ class fused_query {
    * are queued so the search continues from them. Returns false (nothing done) where no ball applies.
    */
   bool seed_from_table(index_t q, std::size_t& live) {
-    const auto* t = pw_->table_of(q);
-    if (!t) return false;
-    const index_t m = pw_->m(q);
-    index_t ext[3], qc[3];
-    for (int a = 0; a < 3; ++a) ext[a] = pw_->extent(a);
-    {
-      index_t v = q;
-      qc[0] = v % ext[0];
-      v /= ext[0];
-      qc[1] = v % ext[1];
-      qc[2] = v / ext[1];
-    }
-    const index_t stride[3] = {1, t->e[0], t->e[0] * t->e[1]};
-    const T* L = t->L.data();
-    T r = std::numeric_limits<T>::infinity();
-    for (int a = 0; a < P::dim; ++a)
-      if (m <= ext[a] - 1) r = std::min(r, L[m * stride[a]]);
-    if (!(T(0) < r) || !(r < std::numeric_limits<T>::infinity())) return false;
-    index_t lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::max<index_t>(0, qc[a] - (m - 1));
-      hi[a] = std::min<index_t>(ext[a] - 1, qc[a] + (m - 1));
-    }
     slot* key = key_.data();
-    for (index_t z = lo[2]; z <= hi[2]; ++z) {
-      const index_t oz = z > qc[2] ? z - qc[2] : qc[2] - z;
-      const index_t iz = std::min(oz + 1, ext[2] - 1);
-      for (index_t y = lo[1]; y <= hi[1]; ++y) {
-        const index_t oy = y > qc[1] ? y - qc[1] : qc[1] - y;
-        const index_t iy = std::min(oy + 1, ext[1] - 1);
-        const T* row = L + stride[1] * oy + stride[2] * oz;
-        const T* next = L + stride[1] * iy + stride[2] * iz;
-        const index_t base = ext[0] * (y + ext[1] * z);
-        for (index_t x = lo[0]; x <= hi[0]; ++x) {
-          const index_t ox = x > qc[0] ? x - qc[0] : qc[0] - x;
-          const T l = row[ox];
-          if (!(l < r)) continue;  // outside the ball
-          const index_t v = base + x;
-          if (!(l < key[v].key)) continue;  // not in the cell (key[v] is still its bound)
+    const index_t ex = pw_->extent(0), ey = pw_->extent(1);
+    const bool done = pw_->for_each_ball_voxel(
+        q, [&](index_t y, index_t z) { return ex * (y + ey * z); },
+        [&](index_t row, index_t x, T l, bool interior) {
+          const index_t v = row + x;
+          if (!(l < key[v].key)) return;  // not in the cell (key[v] is still its bound)
           key[v].key = l;
-          if (next[std::min(ox + 1, ext[0] - 1)] < r) {
+          if (interior) {
             cell_.push_back(v);  // its whole neighbourhood is in the ball: exact already
           } else {
             heap_.push(kt::make(l, 0), v);
             ++live;
           }
-        }
-      }
-    }
+        });
     if (live > heap_peak_) heap_peak_ = live;
-    return true;
+    return done;
   }
 
   bool facets(const std::vector<face<P::dim>>& faces, accumulators& acc) const {

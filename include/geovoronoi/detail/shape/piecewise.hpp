@@ -178,6 +178,57 @@ class piecewise_tables {
   /// Chessboard distance from v to the nearest voxel with a neighbour of another class.
   index_t m(index_t v) const noexcept { return m_[std::size_t(v)]; }
   index_t extent(int a) const noexcept { return ext_[a]; }
+
+  /**
+   * The exact ball of query q's constant region: calls f(row, x, l, interior) for every voxel (x, y, z)
+   * of it, with row = row_of(y, z) (the caller's linear index of voxel (0, y, z)), l its distance
+   * from q out of the table, and interior true when its whole neighbourhood lies in the ball too (so
+   * l needs no search from it). Returns false, calling nothing, where no ball applies.
+   */
+  template <class RowOf, class F>
+  bool for_each_ball_voxel(index_t q, RowOf&& row_of, F&& f) const {
+    const table* t = table_of(q);
+    if (!t) return false;
+    const index_t mq = m(q);
+    index_t qc[3];
+    {
+      index_t v = q;
+      qc[0] = v % ext_[0];
+      v /= ext_[0];
+      qc[1] = v % ext_[1];
+      qc[2] = v / ext_[1];
+    }
+    const index_t stride[3] = {1, t->e[0], t->e[0] * t->e[1]};
+    const T* L = t->L.data();
+    T r = std::numeric_limits<T>::infinity();
+    for (int a = 0; a < P::dim; ++a)
+      if (mq <= ext_[a] - 1) r = std::min(r, L[mq * stride[a]]);
+    if (!(T(0) < r) || !(r < std::numeric_limits<T>::infinity())) return false;
+    index_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::max<index_t>(0, qc[a] - (mq - 1));
+      hi[a] = std::min<index_t>(ext_[a] - 1, qc[a] + (mq - 1));
+    }
+    for (index_t z = lo[2]; z <= hi[2]; ++z) {
+      const index_t oz = z > qc[2] ? z - qc[2] : qc[2] - z;
+      const index_t iz = std::min(oz + 1, ext_[2] - 1);
+      for (index_t y = lo[1]; y <= hi[1]; ++y) {
+        const index_t oy = y > qc[1] ? y - qc[1] : qc[1] - y;
+        const index_t iy = std::min(oy + 1, ext_[1] - 1);
+        const T* row = L + stride[1] * oy + stride[2] * oz;
+        const T* next = L + stride[1] * iy + stride[2] * iz;
+        const index_t base = row_of(y, z);
+        for (index_t x = lo[0]; x <= hi[0]; ++x) {
+          const index_t ox = x > qc[0] ? x - qc[0] : qc[0] - x;
+          const T l = row[ox];
+          if (!(l < r)) continue;  // outside the ball
+          f(base, x, l, next[std::min(ox + 1, ext_[0] - 1)] < r);
+        }
+      }
+    }
+    return true;
+  }
+
   std::size_t bytes() const noexcept {
     std::size_t b = m_.capacity() * sizeof(std::uint16_t) + id_.capacity();
     for (const auto& t : tables_) b += t.L.capacity() * sizeof(T);
