@@ -15,5 +15,6 @@
 #include <geovoronoi/problem.hpp>
 #include <geovoronoi/result.hpp>
 #include <geovoronoi/shape_functions.hpp>
+#include <geovoronoi/shape_update.hpp>
 #include <geovoronoi/update.hpp>
 #include <geovoronoi/voronoi.hpp>
