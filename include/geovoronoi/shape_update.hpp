@@ -27,6 +27,9 @@ struct shape_update_stats {
   /// Voxels whose distance, label or field changed, or that end a newly cut edge (the set X of
   /// docs/shape-functions.md).
   std::size_t changed_voxels = 0;
+  /// Voxels of the grid whose rows are recomputed (R of docs/shape-functions.md): X and the voxels a
+  /// change can reach; `recomputed` counts the rows (points) that fall in it.
+  std::size_t region_voxels = 0;
   /// Distance Ratio: nodes whose contribution can change (their per-node solves are redone).
   std::size_t nodes_affected = 0;
   /// True when every row was recomputed because no smaller set could be proven sufficient (see

@@ -399,6 +399,7 @@ void update_rows(const Policy& policy, const P& after, const D& before, const D&
       natural_neighbour_candidates(after, before, x, xs, bound, rows);
   }
 
+  for (index_t v = 0; v < n; ++v) stats.region_voxels += rows.test(v);
   // recompute those rows (in voxel order: the row functions keep sorted lists in that order)
   const std::size_t ks = std::size_t(k);
   std::vector<std::size_t> redo;
