@@ -99,7 +99,7 @@ void for_each_grid_neighbour(const P& p, index_t v, F&& f) {
 
 /**
  * The rounding margin. A computed distance is a left-to-right float sum a_i = fl(a_{i-1} + w_i) along
- * a simple path of h <= H hops (H = the grid's voxels). Round to nearest gives
+ * a simple path of h <= H hops (H bounds the voxels of the domain before and after). Round to nearest gives
  * a_i >= (a_{i-1} + w_i)(1 - u) - eta, so the exact sum S of the weights satisfies
  * S <= (a_h + H eta) / (1 - H u). Our searches sum the same T weights in double (relative error
  * below 2^-21 for H < 2^32), so "computed distance < r" implies "double search distance <
@@ -387,7 +387,11 @@ void update_rows(const Policy& policy, const P& after, const D& before, const D&
 
   // R: the voxels whose rows are recomputed
   update::voxel_bits rows(n);
-  const rounding_margin<T> bound(n);
+  // a simple path of the problem before or after stays in its domain: at most (inside after) + |X|
+  // voxels, since a voxel whose domain membership changed is in X
+  index_t inside = index_t(xs.size());
+  for (index_t v = 0; v < n; ++v) inside += after.inside(v) ? 1 : 0;
+  const rounding_margin<T> bound(std::min(inside, n));
   stats.full = !bound.valid || !ren.monotone;
   if (stats.full) {
     for (index_t v = 0; v < n; ++v) rows.insert(v);
