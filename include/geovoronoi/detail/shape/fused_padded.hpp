@@ -1,7 +1,7 @@
 #pragma once
 // The fused count-only insert-query (fused_query.hpp) on a padded copy of the grid: the fast path of
-// Sibson and Laplace on host backends, for problems without cuts whose padded grid has fewer than 2^32
-// voxels (fused_query.hpp stays the path for the others).
+// Sibson and Laplace on host backends, for problems whose padded grid has fewer than 2^32 voxels
+// (fused_query.hpp stays the path for the others).
 //
 // What differs from fused_query.hpp, and why the results stay bit for bit the same:
 //
@@ -20,11 +20,16 @@
 //    stored and pushed: the same two tests (dv < ku, then fl(dv + w) < ku with the same operands), as
 //    one branch. A negative weight is still reported for candidates only, and not looked for at all
 //    with the built-in metrics, whose weights between inside voxels are >= 0 or NaN.
+//  * Cuts. A problem with cuts gets one more shared array, the cut mask of every voxel on the padded
+//    grid (filled from the cut table's entries; 0 elsewhere): a cut direction is removed from the
+//    improved set (and never checked for a negative weight), and a cut face is no facet, exactly as
+//    the walker and face_in_grid skip them in fused_query.hpp.
 //  * Heap. A radix heap keyed on the distance's bits alone, with 32-bit voxel indices (8-byte items for
 //    float). Among equal distances the pop order changes, which changes nothing: the distances of a
 //    Dijkstra search with non-negative weights do not depend on the order in which ties settle.
 
 #include <geovoronoi/config.hpp>
+#include <geovoronoi/cut.hpp>
 #include <geovoronoi/detail/shape/common.hpp>
 #include <geovoronoi/detail/shape/fused_query.hpp>
 #include <geovoronoi/detail/shape/piecewise.hpp>
@@ -143,18 +148,16 @@ class padded_grid {
     label_t label;  // the diagram's label inside the domain, no_label outside and on the padding
   };
 
-  /// Whether the fast path applies to @p p: no cuts and a padded grid indexable in 32 bits.
+  /// Whether the fast path applies to @p p: a padded grid indexable in 32 bits.
   static bool applies(const P& p) noexcept {
-    if constexpr (P::has_cuts) {
-      return false;
-    } else {
-      std::uint64_t n = 1;
-      for (int a = 0; a < dim; ++a) n *= std::uint64_t(p.geometry.extent(a)) + 2;
-      return n < std::uint64_t(UINT32_MAX);
-    }
+    std::uint64_t n = 1;
+    for (int a = 0; a < dim; ++a) n *= std::uint64_t(p.geometry.extent(a)) + 2;
+    return n < std::uint64_t(UINT32_MAX);
   }
-  /// Bytes of the shared table for @p p.
-  static std::size_t shared_bytes(const P& p) noexcept { return padded_size(p) * sizeof(info); }
+  /// Bytes of the shared tables for @p p.
+  static std::size_t shared_bytes(const P& p) noexcept {
+    return padded_size(p) * (sizeof(info) + (P::has_cuts ? sizeof(cut_mask_t) : 0));
+  }
   static std::size_t padded_size(const P& p) noexcept {
     std::size_t n = 1;
     for (int a = 0; a < dim; ++a) n *= std::size_t(p.geometry.extent(a)) + 2;
@@ -183,9 +186,17 @@ class padded_grid {
       delta_[k] = p.edges.offset[k][0] + px_ * (p.edges.offset[k][1] + py_ * p.edges.offset[k][2]);
       length_[k] = p.edges.length[k];
     }
+    if constexpr (P::has_cuts) {
+      cut_.assign(info_.size(), 0);
+      const cut_view& c = p.cuts;
+      for (std::uint64_t s = 0; s < c.capacity; ++s)
+        if (c.keys[s] >= 0) cut_[std::size_t(pad(c.keys[s]))] = c.masks[s];
+    }
   }
 
-  std::size_t bytes() const noexcept { return info_.capacity() * sizeof(info); }
+  std::size_t bytes() const noexcept { return info_.capacity() * sizeof(info) + cut_.capacity() * sizeof(cut_mask_t); }
+  /// Cut directions of the voxel at padded index @p w (problems with cuts only).
+  cut_mask_t cut_mask(index_t w) const noexcept { return cut_[std::size_t(w)]; }
   std::size_t size() const noexcept { return info_.size(); }
   const info* data() const noexcept { return info_.data(); }
   index_t extent(int a) const noexcept { return ext_[a]; }
@@ -216,6 +227,7 @@ class padded_grid {
   index_t ext_[3];
   index_t px_ = 1, py_ = 1, pz_ = 1;
   std::vector<info> info_;
+  std::vector<cut_mask_t> cut_;  // problems with cuts: every voxel's cut mask (all directions)
   index_t delta_[neighbours];
   T length_[neighbours];
 };
@@ -337,6 +349,8 @@ class fused_query_padded {
       if (dv != sv->key) continue;  // stale: v was queued again with a smaller distance
       cell_.push_back(v);
       const T fv = sv->field;
+      cut_mask_t cut = 0;  // directions not to relax
+      if constexpr (P::has_cuts) cut = g_.cut_mask(index_t(v));
       T nd[KV];
       int improved[KV];
       int n = 0;
@@ -357,6 +371,7 @@ class fused_query_padded {
           _mm_storeu_ps(nd + k, x);
           mask |= unsigned(_mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(vdv, ku), _mm_cmplt_ps(x, ku)))) << k;
         }
+        mask &= ~unsigned(cut);
         while (mask) {
           improved[n++] = __builtin_ctz(mask);
           mask &= mask - 1;
@@ -368,11 +383,12 @@ class fused_query_padded {
           const slot& su = sv[delta[k]];
           const T ku = su.key;
           const T w = metric(len[k], fv, su.field);
+          const bool open = !((cut >> k) & 1u);
           if constexpr (check)
-            if (dv < ku && !(w >= T(0))) fused_bad_weight(double(w));
+            if (open && dv < ku && !(w >= T(0))) fused_bad_weight(double(w));
           nd[k] = dv + w;
           improved[n] = k;
-          n += int((dv < ku) & (nd[k] < ku));
+          n += int(open & (dv < ku) & (nd[k] < ku));
         }
       }
       for (int i = 0; i < n; ++i) {
@@ -422,7 +438,10 @@ class fused_query_padded {
     for (std::uint32_t v : cell_) {
       const T fv = key[v].field;
       const T dq = key[v].key;
+      cut_mask_t cut = 0;  // a cut face is no facet
+      if constexpr (P::has_cuts) cut = g_.cut_mask(index_t(v));
       for (int i = 0; i < F; ++i) {
+        if ((cut >> fedge[i]) & 1u) continue;
         const index_t w = index_t(v) + fdelta[i];
         const label_t k = in[w].label;  // no_label: padding (off the grid), outside, or unreached
         if (k == no_label) continue;
