@@ -67,10 +67,8 @@ shape_update_stats update_shape_functions_in_place(const Policy& policy, const P
       w.weight.size() != w.node.size())
     throw std::invalid_argument("geovoronoi::update_shape_functions: the weights were computed on another grid");
   const auto chg = detail::shape::as_change<P::dim>(c);
-  std::vector<index_t> rows(std::size_t(after.geometry.size()));
-  for (std::size_t v = 0; v < rows.size(); ++v) rows[v] = index_t(v);
   shape_update_stats s;
-  detail::shape::update_rows(policy, after, d_before, d_after, chg, opt, w.k, w.nodes, rows, w.node, w.weight, s);
+  detail::shape::update_rows(policy, after, d_before, d_after, chg, opt, w.k, w.nodes, nullptr, w.node, w.weight, s);
   return s;
 }
 
@@ -111,7 +109,7 @@ shape_update_stats update_shape_functions_at_in_place(const Policy& policy, cons
                                   " has voxel index " + std::to_string(w.voxel[i]) + ", outside the grid");
   const auto chg = detail::shape::as_change<P::dim>(c);
   shape_update_stats s;
-  detail::shape::update_rows(policy, after, d_before, d_after, chg, opt, w.k, w.nodes, w.voxel, w.node, w.weight, s);
+  detail::shape::update_rows(policy, after, d_before, d_after, chg, opt, w.k, w.nodes, &w.voxel, w.node, w.weight, s);
   return s;
 }
 

@@ -23,6 +23,13 @@
 
 namespace geovoronoi::detail::shape {
 
+/// 0, 1, ..., n - 1.
+inline std::vector<index_t> all_voxels(index_t n) {
+  std::vector<index_t> v(static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = index_t(i);
+  return v;
+}
+
 /// The change argument of the public functions as a change<Dim> (a cut_set or a carving alone).
 template <int Dim>
 const change<Dim>& as_change(const change<Dim>& c) {
@@ -122,7 +129,8 @@ struct rounding_margin {
 /**
  * A search that keeps, at every voxel, the largest budget left: sources start with their own budget,
  * a step along an edge spends the edge's weight, and voxels end with budget > 0 or are never reached.
- * @p step(u, f) calls f(w, weight) for the voxels w the search may enter from u.
+ * @p step(u, b, f) calls f(w, weight) for the voxels w the search may enter from u, popped with its
+ * final budget b; it returns false to end the search.
  */
 template <class Step>
 void budget_search(std::vector<double>& budget, std::vector<index_t>& reached,
@@ -132,7 +140,7 @@ void budget_search(std::vector<double>& budget, std::vector<index_t>& reached,
     const auto [b, u] = heap.top();
     heap.pop();
     if (b < budget[std::size_t(u)]) continue;  // stale
-    step(u, [&](index_t w, double weight) {
+    const bool more = step(u, b, [&](index_t w, double weight) {
       const double nb = b - weight;
       if (nb > 0 && nb > budget[std::size_t(w)]) {
         if (!(budget[std::size_t(w)] > 0)) reached.push_back(w);
@@ -140,6 +148,7 @@ void budget_search(std::vector<double>& budget, std::vector<index_t>& reached,
         heap.push({nb, w});
       }
     });
+    if (!more) return;
   }
 }
 
@@ -179,7 +188,7 @@ void natural_neighbour_candidates(const P& after, const D& before, const update:
     offer(budget, reached, sources, v, bound(double(d)));
   };
   for (const index_t v : xs) walk.for_each_neighbour(after, v, [&](int, index_t u) { source(u); });
-  budget_search(budget, reached, sources, [&](index_t u, auto&& f) {
+  budget_search(budget, reached, sources, [&](index_t u, double, auto&& f) {
     const T fu = after.field[u];
     walk.for_each_neighbour(after, u, [&](int k, index_t w) {
       if (x.test(w) || !after.inside(w)) return;
@@ -187,6 +196,7 @@ void natural_neighbour_candidates(const P& after, const D& before, const update:
       const T wt = after.metric(after.edges.length[opposite_direction(k, P::neighbours)], after.field[w], fu);
       if (wt >= T(0)) f(w, double(wt));
     });
+    return true;
   });
   for (const index_t v : reached) rows.insert(v);
 }
@@ -259,34 +269,37 @@ std::size_t distance_ratio_candidates(const P& after, const D& before, const D& 
       walk.for_each_neighbour(after, v, [&](int, index_t u) {
         if (!x.test(u) && after.inside(u)) offer(budget, reached, sources, u, reach);
       });
-    budget_search(budget, reached, sources, [&](index_t u, auto&& f) {
-      if (x.test(u)) return;
-      const T fu = after.field[u];
-      walk.for_each_neighbour(after, u, [&](int k, index_t w) {
+    // the double sums err by at most 2^-21 of reach, whatever node is tested: add that
+    const double slack = std::ldexp(reach, -20);
+    std::size_t unhit = std::size_t(std::count(hit_old.begin(), hit_old.end(), char(0)));
+    auto hit = [&](label_t l) {
+      if (!hit_old[std::size_t(l)]) hit_old[std::size_t(l)] = 1, --unhit;
+    };
+    // each voxel is tested when it pops (its budget is final then); the search ends once every node is hit
+    budget_search(budget, reached, sources, [&](index_t z, double b, auto&& f) {
+      const double dist = reach - b - slack;
+      // the support search of node j (from its voxel, to 2 d_max)
+      const label_t lz = before.label[z];
+      if (lz != no_label && before.seeds[std::size_t(lz)] == z && dist < bound(2 * double(dmb[std::size_t(lz)]))) hit(lz);
+      // the frontier search of the cells z belongs or is a face neighbour to (to d_max)
+      auto frontier = [&](label_t l) {
+        if (l != no_label && dist < bound(double(dmb[std::size_t(l)]))) hit(l);
+      };
+      frontier(lz);
+      const auto c = after.geometry.coords(z);
+      for (const auto& fc : faces) {
+        const index_t y = c[std::size_t(fc.axis)] + fc.dir;
+        if (y >= 0 && y < after.geometry.extent(fc.axis)) frontier(before.label[z + fc.delta]);
+      }
+      if (unhit == 0) return false;
+      const T fu = after.field[z];
+      walk.for_each_neighbour(after, z, [&](int k, index_t w) {
         if (x.test(w) || !after.inside(w)) return;
         const T wt = after.metric(after.edges.length[opposite_direction(k, P::neighbours)], after.field[w], fu);
         if (wt >= T(0)) f(w, double(wt));
       });
+      return true;
     });
-    // the double sums above err by at most 2^-21 of reach, whatever node is tested: add that
-    const double slack = std::ldexp(reach, -20);
-    for (const index_t z : reached) {
-      const double dist = reach - budget[std::size_t(z)] - slack;
-      // the support search of node j (from its voxel, to 2 d_max)
-      const label_t lz = before.label[z];
-      if (lz != no_label && before.seeds[std::size_t(lz)] == z && dist < bound(2 * double(dmb[std::size_t(lz)])))
-        hit_old[std::size_t(lz)] = 1;
-      // the frontier search of the cells z belongs or is a face neighbour to (to d_max)
-      auto frontier = [&](label_t l) {
-        if (l != no_label && dist < bound(double(dmb[std::size_t(l)]))) hit_old[std::size_t(l)] = 1;
-      };
-      frontier(lz);
-      const auto c = after.geometry.coords(z);
-      for (const auto& f : faces) {
-        const index_t y = c[std::size_t(f.axis)] + f.dir;
-        if (y >= 0 && y < after.geometry.extent(f.axis)) frontier(before.label[z + f.delta]);
-      }
-    }
   }
   for (std::size_t j = 0; j < nb; ++j)
     if (ren.to_new[j] != renumbering::gone) {
@@ -294,6 +307,13 @@ std::size_t distance_ratio_candidates(const P& after, const D& before, const D& 
       const char h = char(hit_old[j] | hit_new[t]);
       hit_old[j] = hit_new[t] = h;
     }
+  // every node affected (supports of radius 2 d_max reach far): every row is recomputed, without the
+  // search below (its balls would cover the grid)
+  if (std::all_of(hit_old.begin(), hit_old.end(), [](char h) { return h != 0; }) &&
+      std::all_of(hit_new.begin(), hit_new.end(), [](char h) { return h != 0; })) {
+    for (index_t v = 0; v < n; ++v) rows.insert(v);
+    return std::max(nb, na);
+  }
   // the supports of the affected nodes, before and after: a lower-bound search from their voxels
   std::vector<double> budget(std::size_t(n), -1.0);
   std::vector<index_t> reached;
@@ -312,10 +332,10 @@ std::size_t distance_ratio_candidates(const P& after, const D& before, const D& 
       rows.insert(d_after.seeds[j]);
     }
   const stencil_walker<P::dim> walk(after);
-  budget_search(budget, reached, sources, [&](index_t u, auto&& f) {
+  budget_search(budget, reached, sources, [&](index_t u, double, auto&& f) {
     if (x.test(u)) {  // every edge at a voxel of X: weight 0, cut or masked
       for_each_grid_neighbour(after, u, [&](int, index_t w) { f(w, 0.0); });
-      return;
+      return true;
     }
     const T fu = after.field[u];
     walk.for_each_neighbour(after, u, [&](int k, index_t w) {
@@ -324,20 +344,22 @@ std::size_t distance_ratio_candidates(const P& after, const D& before, const D& 
       const T wt = after.metric(after.edges.length[k], fu, after.field[w]);
       if (wt >= T(0)) f(w, double(wt));
     });
+    return true;
   });
   for (const index_t v : reached) rows.insert(v);
   return affected;
 }
 
 /**
- * The update itself: rows (voxel indices, repeats allowed) of K slots in @p node / @p weight hold the
- * weights of the problem before the change; afterwards they hold those of @p after. @p nodes is set to
- * the node count after the change.
+ * The update itself: rows of K slots in @p node / @p weight, row r at voxel (*row_list)[r] (repeats
+ * allowed) or, with a null @p row_list, row v at voxel v of the whole grid, hold the weights of the
+ * problem before the change; afterwards they hold those of @p after. @p nodes is set to the node count
+ * after the change.
  */
 template <class Policy, class P, class D, class Options, class Stats>
 void update_rows(const Policy& policy, const P& after, const D& before, const D& d_after,
                  const change<P::dim>& c, const Options& opt, int k, std::size_t& nodes,
-                 const std::vector<index_t>& row_voxel, std::vector<label_t>& node,
+                 const std::vector<index_t>* row_list, std::vector<label_t>& node,
                  std::vector<typename P::value_type>& weight, Stats& stats) {
   using T = typename P::value_type;
   const std::string who = "geovoronoi::update_shape_functions: ";
@@ -404,21 +426,31 @@ void update_rows(const Policy& policy, const P& after, const D& before, const D&
   }
 
   for (index_t v = 0; v < n; ++v) stats.region_voxels += rows.test(v);
-  // recompute those rows (in voxel order: the row functions keep sorted lists in that order)
-  const std::size_t ks = std::size_t(k);
+  // recompute those rows (in voxel order: the row functions keep sorted lists in that order); every
+  // row of the whole grid: the whole-grid form (no per-point bookkeeping)
+  const std::size_t ks = std::size_t(k), row_count = row_list ? row_list->size() : std::size_t(n);
+  auto row_voxel = [&](std::size_t r) { return row_list ? (*row_list)[r] : index_t(r); };
   std::vector<std::size_t> redo;
-  for (std::size_t r = 0; r < row_voxel.size(); ++r)
-    if (rows.test(row_voxel[r])) redo.push_back(r);
-  std::stable_sort(redo.begin(), redo.end(), [&](std::size_t a, std::size_t b) { return row_voxel[a] < row_voxel[b]; });
-  std::vector<index_t> vox(redo.size());
-  for (std::size_t i = 0; i < redo.size(); ++i) vox[i] = row_voxel[redo[i]];
+  for (std::size_t r = 0; r < row_count; ++r)
+    if (rows.test(row_voxel(r))) redo.push_back(r);
+  if (row_list)
+    std::stable_sort(redo.begin(), redo.end(), [&](std::size_t a, std::size_t b) { return row_voxel(a) < row_voxel(b); });
+  const bool whole = !row_list && redo.size() == std::size_t(n);
+  std::vector<index_t> vox(whole ? 0 : redo.size());
+  for (std::size_t i = 0; i < vox.size(); ++i) vox[i] = row_voxel(redo[i]);
   std::vector<label_t> new_node(redo.size() * ks, no_label);
   std::vector<T> new_weight(redo.size() * ks, T(0));
-  if (!vox.empty())
+  if (!redo.empty())
     with_threads(policy, opt.threads, [&] {
+      // with `whole`, null voxel lists mean the whole grid
+      const index_t* list = whole ? nullptr : vox.data();
       if (opt.method == shape_method::distance_ratio)
-        distance_ratio_rows(policy, after, d_after, opt, k, d_after.seeds.size(), vox.data(), vox.size(),
+        distance_ratio_rows(policy, after, d_after, opt, k, d_after.seeds.size(), list, redo.size(),
                             new_node.data(), new_weight.data());
+      else if (whole && (opt.method == shape_method::sibson || opt.method == shape_method::laplace))
+        natural_neighbour_rows(policy, after, d_after, opt, opt.method == shape_method::laplace,
+                               all_voxels(n).data(), redo.size(), k, d_after.seeds.size(), new_node.data(),
+                               new_weight.data());
       else if (opt.method == shape_method::sibson || opt.method == shape_method::laplace)
         natural_neighbour_rows(policy, after, d_after, opt, opt.method == shape_method::laplace, vox.data(),
                                vox.size(), k, d_after.seeds.size(), new_node.data(), new_weight.data());
@@ -434,7 +466,7 @@ void update_rows(const Policy& policy, const P& after, const D& before, const D&
   if (!ren.identity)
     for (std::size_t at = 0; at < node.size(); ++at) {
       const label_t m = ren(node[at]);
-      if (m == renumbering::gone && !rows.test(row_voxel[at / ks]))
+      if (m == renumbering::gone && !rows.test(row_voxel(at / ks)))
         throw std::logic_error(who + "a kept row names a removed node");
       node[at] = m == renumbering::gone ? no_label : m;
     }
@@ -450,7 +482,7 @@ void update_rows(const Policy& policy, const P& after, const D& before, const D&
     changed += !same;
   }
   nodes = d_after.seeds.size();
-  stats.rows = row_voxel.size();
+  stats.rows = row_count;
   stats.recomputed = redo.size();
   stats.changed = changed;
 }
