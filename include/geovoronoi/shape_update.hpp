@@ -7,8 +7,8 @@
 /// Why the recomputed set is sufficient is written down in docs/shape-functions.md ("After a
 /// change"); detail/shape/update_rows.hpp holds the searches that find it.
 
-#include <geovoronoi/detail/shape/update_rows.hpp>
 #include <geovoronoi/shape_functions.hpp>
+#include <geovoronoi/detail/shape/update_rows.hpp>
 #include <geovoronoi/update.hpp>
 
 #include <cstddef>

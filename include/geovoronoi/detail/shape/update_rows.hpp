@@ -8,6 +8,7 @@
 #include <geovoronoi/detail/shape/common.hpp>
 #include <geovoronoi/detail/shape/distance_ratio.hpp>
 #include <geovoronoi/detail/shape/natural_neighbours.hpp>
+#include <geovoronoi/shape_functions.hpp>
 #include <geovoronoi/update.hpp>
 
 #include <algorithm>
