@@ -138,7 +138,9 @@ void budget_search(std::vector<double>& budget, std::vector<index_t>& reached,
                    std::vector<std::pair<double, index_t>>& sources, Step&& step) {
   std::priority_queue<std::pair<double, index_t>> heap(std::less<std::pair<double, index_t>>(), std::move(sources));
   while (!heap.empty()) {
-    const auto [b, u] = heap.top();
+    // (no structured binding: clang 14 cannot capture one in the lambda below)
+    const double b = heap.top().first;
+    const index_t u = heap.top().second;
     heap.pop();
     if (b < budget[std::size_t(u)]) continue;  // stale
     const bool more = step(u, b, [&](index_t w, double weight) {
