@@ -107,7 +107,7 @@ configure build-test -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -
 cmake --build build-test -j"$jobs"
 stage_done "test build"
 
-# ---- ASan + UBSan build of the tests, in the background (log: build-sanitize.log) ----
+# ---- ASan + UBSan build of the tests, in the background (log: build-sanitize/build.log) ----
 # clang when present (test.sh installs it): its ASan + UBSan build of the tests costs about 0.6 of
 # GCC's at the same -O1 -g1 (GCC's UBSan instrumentation is the difference); -O0 instead of -O1 cuts
 # its compile time to between a quarter and a half (docs/testing.md). Warnings were made errors in
@@ -121,7 +121,7 @@ configure build-sanitize -DCMAKE_CXX_COMPILER="$san_cxx" -DCMAKE_BUILD_TYPE=RelW
       -DGEOVORONOI_HEADER_CHECKS=OFF -DGEOVORONOI_CUDA=OFF -DGEOVORONOI_TEST_EXTRA_THRUST_SYSTEMS=OFF \
       -DGEOVORONOI_TEST_REDUCED_MATRIX=ON
 san_start=$SECONDS
-setsid cmake --build build-sanitize -j"$jobs" > build-sanitize.log 2>&1 &
+setsid cmake --build build-sanitize -j"$jobs" > build-sanitize/build.log 2>&1 &
 san_pid=$!
 
 ctest --test-dir build-test --output-on-failure -j"$jobs"
@@ -136,8 +136,8 @@ san_rc=0
 wait "$san_pid" || san_rc=$?
 san_pid=""
 if [ "$san_rc" -ne 0 ]; then
-  tail -n 60 build-sanitize.log
-  echo "the ASan + UBSan build failed (build-sanitize.log)"
+  tail -n 60 build-sanitize/build.log
+  echo "the ASan + UBSan build failed (build-sanitize/build.log)"
   exit 1
 fi
 stage_done "sanitizer build, rest"
