@@ -3,22 +3,22 @@
 # everything (every backend this machine supports, the tool, benchmarks, examples, header checks)
 # with g++ at -O1 and -Werror and runs ctest (unit tests, CLI tests, consumer projects, and every
 # benchmark once as a smoke test), builds the Python package (g++ -O3, -Werror) and runs its pytest
-# suite, then builds and runs the tests again with clang under AddressSanitizer +
-# UndefinedBehaviorSanitizer, then fuzzes the parsers. Any failure fails it. Prints each stage's time.
+# suite, builds and runs the tests again with clang under AddressSanitizer +
+# UndefinedBehaviorSanitizer, then fuzzes the parsers. Any failure fails it. Prints each stage's
+# time. docs/testing.md says what each stage covers and what it costs.
 #
-# To stay fast on a 2-core machine:
+# To stay fast on a 2-core machine (figures: docs/testing.md):
 # - the test build is g++ -O1 (folder build-test/, so an optimised build/ for benchmarks is never
-#   replaced): on the largest test unit, tests/backend/thrust_cpp.cpp, g++ takes 92 s CPU at -O3 and
-#   44 s at -O1; clang -O1 50 s, clang -O1 -g1 with ASan + UBSan 112 s, g++ -O1 -g1 with both 166 s
-#   (2-core AMD EPYC development VM, 2026-12-01, same load for all five). The optimised code is still
-#   tested: the Python extension is compiled at -O3 (every solver, shape function and reader it binds,
-#   for each metric, connectivity, precision and host backend), and its pytest suite checks it against
-#   SciPy, scikit-image and, byte for byte, the C++ tool of the test build;
+#   replaced); the optimised code is still tested: the Python extension is compiled at -O3 (every
+#   solver, shape function and reader it binds), and its pytest suite checks it against SciPy,
+#   scikit-image and, byte for byte, the C++ tool of the test build;
+# - Ninja (Debian's ninja-build) instead of make when it is there;
 # - each nvcc translation unit is compiled once, for ONE architecture (GEOVORONOI_CUDA_ARCHITECTURES):
 #   on a machine with a GPU "80" (sm_80 code plus PTX that newer GPUs compile at load time); without
-#   one "80-virtual", PTX only (nvcc's front end and NVVM still run, only ptxas is skipped), and then
-#   the nvcc-compiled backend suites, which can only prove that they compile, instantiate the suite's
-#   reduced type/connectivity matrix (GEOVORONOI_TEST_CUDA_REDUCED_MATRIX);
+#   one "80-virtual", PTX only (nvcc's front end and NVVM still run, only ptxas is skipped). Without a
+#   GPU no device code can run, so the nvcc units only prove that they compile: they instantiate the
+#   suites' reduced type/connectivity matrix (GEOVORONOI_TEST_CUDA_REDUCED_MATRIX), and NVVM runs
+#   with nvcc's fastest device-compile setting (-Ofc max, where nvcc has it);
 # - the Thrust CPP and TBB suites run a reduced type/metric matrix (the code they share with the
 #   OpenMP suite is that suite's full matrix; what differs is the Thrust system);
 # - the benchmarks run one short iteration per case at most 32 voxels per side (ctest label
@@ -26,14 +26,19 @@
 # - the sanitizer build has only the tests that run: no benchmarks, no CUDA units, no tool, no
 #   examples, no compile-only header checks (all of those were built and run in the first stage), no
 #   Thrust CPP/TBB suites, and the Thrust OpenMP suite on the reduced matrix (the full one ran in the
-#   first stage; what the sanitizers look for is in the code paths, which the reduced matrix runs);
-#   it is compiled by clang at -O1 with line tables only (-g1), what AddressSanitizer recommends.
+#   first stage; what the sanitizers look for is in the code paths, which the reduced matrix runs).
+#   It is clang at -O0 with line tables (-g1): a quarter of the compile time of -O1 (which loses no
+#   finding: ASan and UBSan check every access and operation the code performs at any level); the
+#   tests run about four times slower, far less than the compile time saved;
+# - the sanitizer build runs in the background while ctest and the Python stage run (both leave a
+#   core idle much of the time), and the four fuzzers run side by side, one per core.
 
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 source scripts/lib/packages.sh
-ensure_packages cmake g++ make libeigen3-dev doctest-dev libbenchmark-dev libpng-dev zlib1g-dev libtbb-dev libomp-dev clang
+ensure_packages cmake g++ make ninja-build libeigen3-dev doctest-dev libbenchmark-dev libpng-dev zlib1g-dev \
+                libtbb-dev libomp-dev clang
 
 jobs=$(nproc)
 gpu=0
@@ -43,74 +48,151 @@ if command -v nvidia-smi >/dev/null 2>&1 && nvidia-smi -L 2>/dev/null | grep -q 
 else
   cuda_arch="${GEOVORONOI_CUDA_ARCHITECTURES:-80-virtual}"
 fi
+generator="Unix Makefiles"
+if command -v ninja >/dev/null 2>&1; then
+  generator=Ninja
+fi
 start=$SECONDS
 stage_start=$SECONDS
 times=()
+# CPU seconds (user + system) of the finished child processes so far: with the machine shared, the
+# CPU time of a stage says more than its wall time
+# (bash's `times`, run in this shell, not in a subshell, whose children would be none; a background
+# job counts once it has been waited for)
+cpu_file=$(mktemp)
+child_cpu() {
+  times > "$cpu_file"
+  cpu_now=$(tail -n 1 "$cpu_file" | awk '{ n = 0; for (i = 1; i <= 2; ++i) { split($i, a, /[ms]/); n += a[1] * 60 + a[2] } printf "%d", n }')
+}
+child_cpu
+stage_cpu=$cpu_now
 stage_done() {
   local t=$((SECONDS - stage_start))
-  times+=("$(printf '%-28s %5d s' "$1" "$t")")
-  echo "== $1: ${t} s"
+  child_cpu
+  times+=("$(printf '%-44s %5d s   CPU %5d s' "$1" "$t" "$((cpu_now - stage_cpu))")")
+  echo "== $1: ${t} s (CPU $((cpu_now - stage_cpu)) s)"
   stage_start=$SECONDS
+  stage_cpu=$cpu_now
 }
+# configure DIR ARGS...: a folder configured before with another generator is started afresh
+configure() {
+  local dir=$1
+  shift
+  if [ -f "$dir/CMakeCache.txt" ] && ! grep -qx "CMAKE_GENERATOR:INTERNAL=$generator" "$dir/CMakeCache.txt"; then
+    echo "== $dir was configured with another generator: removing it"
+    rm -rf "$dir"
+  fi
+  cmake -S . -B "$dir" -G "$generator" "$@" >/dev/null
+}
+# the background sanitizer build, if still running when this script stops, stops with it
+san_pid=""
+trap '[ -n "$san_pid" ] && kill -- -"$san_pid" 2>/dev/null; rm -f "$cpu_file"; true' EXIT
 
 reduced_cuda=OFF
-[ "$gpu" = 0 ] && reduced_cuda=ON
-echo "== test build (g++ -O1, -Werror, CUDA architecture ${cuda_arch})"
-cmake -S . -B build-test -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
-      -DCMAKE_CUDA_FLAGS_RELEASE="-O1 -DNDEBUG" -DGEOVORONOI_WERROR=ON \
-      -DGEOVORONOI_CUDA_ARCHITECTURES="$cuda_arch" -DGEOVORONOI_TEST_CUDA_REDUCED_MATRIX="$reduced_cuda" >/dev/null
+cuda_flags="-O1 -DNDEBUG"
+if [ "$gpu" = 0 ]; then
+  # Nothing compiled by nvcc can run its kernels here: the host side at -O0 and, where nvcc has
+  # it (12.8 and later), its fastest device compile (-Ofc=max), about half the CPU time per unit
+  reduced_cuda=ON
+  cuda_flags="-O0 -DNDEBUG"
+  nvcc_bin=$(command -v nvcc || echo /usr/local/cuda/bin/nvcc)
+  if [ -x "$nvcc_bin" ] && "$nvcc_bin" --help 2>/dev/null | grep -q -- "--Ofast-compile"; then
+    cuda_flags="$cuda_flags -Ofc=max"
+  fi
+fi
+echo "== test build (g++ -O1, -Werror, CUDA architecture ${cuda_arch}, nvcc ${cuda_flags}, ${generator})"
+configure build-test -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
+      -DCMAKE_CUDA_FLAGS_RELEASE="$cuda_flags" -DGEOVORONOI_WERROR=ON \
+      -DGEOVORONOI_CUDA_ARCHITECTURES="$cuda_arch" -DGEOVORONOI_TEST_CUDA_REDUCED_MATRIX="$reduced_cuda"
 cmake --build build-test -j"$jobs"
 stage_done "test build"
-ctest --test-dir build-test --output-on-failure -j"$jobs"
-stage_done "ctest"
 
-echo "== Python package (pip install . into build-python/venv, pytest)"
-GEOVORONOI_CLI="$PWD/build-test/bin/geovoronoi" scripts/test-python.sh
-stage_done "python package"
-
-echo "== ASan + UBSan build (tests only, $(basename "$(command -v clang++ || command -v g++)"))"
+# ---- ASan + UBSan build of the tests, in the background (log: build-sanitize/build.log) ----
 # clang when present (test.sh installs it): its ASan + UBSan build of the tests costs about 0.6 of
-# GCC's at the same -O1 -g1 (GCC's UBSan instrumentation is the difference). Warnings were made
-# errors in the release stage, on the same sources; this stage is for what runs.
+# GCC's at the same -O1 -g1 (GCC's UBSan instrumentation is the difference); -O0 instead of -O1 cuts
+# its compile time to between a quarter and a half (docs/testing.md). Warnings were made errors in
+# the release stage, on the same sources; this stage is for what runs.
 san_cxx=$(command -v clang++ || command -v g++)
-cmake -S . -B build-sanitize -DCMAKE_CXX_COMPILER="$san_cxx" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+echo "== ASan + UBSan build (tests only, $(basename "$san_cxx") -O0 -g1) started in the background"
+configure build-sanitize -DCMAKE_CXX_COMPILER="$san_cxx" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+      -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O0 -g1 -DNDEBUG" \
       -DGEOVORONOI_SANITIZE=ON -DGEOVORONOI_WERROR=OFF \
       -DGEOVORONOI_BUILD_BENCH=OFF -DGEOVORONOI_BUILD_TOOLS=OFF -DGEOVORONOI_BUILD_EXAMPLES=OFF \
       -DGEOVORONOI_HEADER_CHECKS=OFF -DGEOVORONOI_CUDA=OFF -DGEOVORONOI_TEST_EXTRA_THRUST_SYSTEMS=OFF \
-      -DGEOVORONOI_TEST_REDUCED_MATRIX=ON >/dev/null
-cmake --build build-sanitize -j"$jobs"
-stage_done "sanitizer build"
+      -DGEOVORONOI_TEST_REDUCED_MATRIX=ON
+san_start=$SECONDS
+setsid cmake --build build-sanitize -j"$jobs" > build-sanitize/build.log 2>&1 &
+san_pid=$!
+
+ctest --test-dir build-test --output-on-failure -j"$jobs"
+stage_done "ctest (sanitizer build alongside)"
+
+echo "== Python package (pip install . into build-python/venv, pytest)"
+GEOVORONOI_CLI="$PWD/build-test/bin/geovoronoi" scripts/test-python.sh
+stage_done "python package (sanitizer build alongside)"
+
+echo "== waiting for the ASan + UBSan build"
+san_rc=0
+wait "$san_pid" || san_rc=$?
+san_pid=""
+if [ "$san_rc" -ne 0 ]; then
+  tail -n 60 build-sanitize/build.log
+  echo "the ASan + UBSan build failed (build-sanitize/build.log)"
+  exit 1
+fi
+stage_done "sanitizer build, rest"
+echo "   (the sanitizer build took $((SECONDS - san_start)) s from its start, alongside ctest and Python)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build-sanitize --output-on-failure -j"$jobs" -LE "consumer|fuzz"
 stage_done "sanitizer ctest"
 
 # ---- fuzzing: libFuzzer on the MetaImage, NumPy, PGM/PPM and STL/OBJ parsers ----
 # Built apart with clang in build-fuzz/ (only the fuzz targets), each run for a bounded time on a
-# copy of the seed corpus in tests/fuzz/corpus/. A crash, sanitizer report, leak or timeout fails.
+# copy of the seed corpus in tests/fuzz/corpus/, as many at once as there are cores (each fuzzer is
+# one process on one core, so running them side by side does not shorten any run). A crash,
+# sanitizer report, leak or timeout fails.
 if command -v clang++ >/dev/null 2>&1; then
   fuzz_seconds="${GEOVORONOI_FUZZ_SECONDS:-20}"
-  echo "== fuzzing (clang, ${fuzz_seconds} s per parser)"
-  cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DGEOVORONOI_FUZZ=ON \
+  echo "== fuzzing (clang, ${fuzz_seconds} s per parser, ${jobs} at a time)"
+  configure build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DGEOVORONOI_FUZZ=ON \
         -DGEOVORONOI_BUILD_BENCH=OFF -DGEOVORONOI_BUILD_TOOLS=OFF -DGEOVORONOI_BUILD_EXAMPLES=OFF \
-        -DGEOVORONOI_THRUST=OFF -DGEOVORONOI_CUDA=OFF >/dev/null
+        -DGEOVORONOI_THRUST=OFF -DGEOVORONOI_CUDA=OFF
   cmake --build build-fuzz --target fuzz_metaimage fuzz_npy fuzz_pnm fuzz_mesh -j"$jobs"
   stage_done "fuzz build"
-  for f in metaimage npy pnm mesh; do
+  fuzz_one() {
+    local f=$1
     rm -rf "build-fuzz/corpus-$f" && mkdir -p "build-fuzz/corpus-$f"
     cp tests/fuzz/corpus/"$f"/* "build-fuzz/corpus-$f"/
-    if ! (cd build-fuzz && ./tests/fuzz_"$f" -max_total_time="$fuzz_seconds" -timeout=10 -rss_limit_mb=2048 \
-          -max_len=4096 -print_final_stats=1 "corpus-$f" > "fuzz-$f.log" 2>&1); then
+    (cd build-fuzz && ./tests/fuzz_"$f" -max_total_time="$fuzz_seconds" -timeout=10 -rss_limit_mb=2048 \
+       -max_len=4096 -print_final_stats=1 "corpus-$f" > "fuzz-$f.log" 2>&1)
+  }
+  fuzzers=(metaimage npy pnm mesh)
+  failed=()
+  for ((i = 0; i < ${#fuzzers[@]}; i += jobs)); do
+    pids=()
+    for f in "${fuzzers[@]:i:jobs}"; do
+      fuzz_one "$f" &
+      pids+=("$!:$f")
+    done
+    for p in "${pids[@]}"; do
+      wait "${p%%:*}" || failed+=("${p#*:}")
+    done
+  done
+  for f in "${fuzzers[@]}"; do
+    grep -E "^stat::number_of_executed_units|Done" "build-fuzz/fuzz-$f.log" | head -n 2 | sed "s/^/$f: /"
+  done
+  if ((${#failed[@]})); then
+    for f in "${failed[@]}"; do
       tail -n 40 "build-fuzz/fuzz-$f.log"
       echo "fuzz_$f found a problem (see build-fuzz/fuzz-$f.log and build-fuzz/crash-*)"
-      exit 1
-    fi
-    grep -E "^stat::number_of_executed_units|Done" "build-fuzz/fuzz-$f.log" | head -n 2
-  done
+    done
+    exit 1
+  fi
   stage_done "fuzz runs"
 else
   echo "== fuzzing skipped (no clang++)"
 fi
 echo "== stage times"
 printf '   %s\n' "${times[@]}"
-echo "== all tests passed in $((SECONDS - start)) s (load average now:$(uptime | sed 's/.*load average://'))"
+child_cpu
+echo "== all tests passed in $((SECONDS - start)) s, CPU ${cpu_now} s (load average now:$(uptime | sed 's/.*load average://'))"
