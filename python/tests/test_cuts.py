@@ -228,8 +228,8 @@ def test_update_with_a_mask_keeps_it():
     shape = (6, 7, 9)
     f = field(shape)
     mask = np.ones(shape, bool)
-    mask[:, 3, :] = False
-    mask[:, 3, 0] = True
+    mask[:, 2, :] = False
+    mask[:, 2, 0] = True
     s = SEEDS[3]
     d = gv.voronoi(f, s, mask=mask, parent=True)
     cut = blade(shape, 26)
