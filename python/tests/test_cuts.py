@@ -331,3 +331,24 @@ def test_bad_inputs_raise_with_a_message(tmp_path):
         gv.update_shape_functions(w, dp, u, f, method="distance_ratio", k=2, carved=np.zeros(shape, bool))
     with pytest.raises(ValueError, match="float64"):
         gv.update(dp, f.astype(np.float64), cut=cut)
+
+
+def test_update_shape_functions_reports_progress_and_cancels():
+    shape = (5, 6, 8)
+    f = field(shape)
+    s = np.minimum(SEEDS[3], np.array(shape) - 1)
+    d = gv.voronoi(f, s, parent=True)
+    w = gv.shape_functions(f, d, method="sibson", k=2)
+    u = gv.update(d, f, cut=blade(shape, 26, 3.5))
+    steps = []
+    gv.update_shape_functions(w, d, u, f, method="sibson", k=2, progress=steps.append)
+    assert steps and abs(sum(steps) - 100.0) < 1e-9
+
+    class Stop(Exception):
+        pass
+
+    def stop(_):
+        raise Stop()
+
+    with pytest.raises(Stop):
+        gv.update_shape_functions(w, d, u, f, method="sibson", k=2, progress=stop, batch_size=1)
