@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 import numbers
 import os
+import weakref
 from typing import Any, Callable, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -27,7 +28,13 @@ import numpy as np
 from . import _geovoronoi as _ext
 
 __all__ = [
+    "Cut",
     "Diagram",
+    "cut_from_mesh",
+    "cut_from_polylines",
+    "read_mesh",
+    "update",
+    "update_shape_functions",
     "METRICS",
     "METHODS",
     "backends",
@@ -86,16 +93,22 @@ class Diagram:
         :func:`read_image` returns it; the identity unless ``voronoi`` was given one.
     metric : str
     connectivity : int
+    cut : Cut or None
+        Every cut edge the diagram was solved with (``voronoi(..., cut=)``, accumulated over
+        :func:`update` calls); None without cuts.
+    stats : dict or None
+        For a diagram returned by :func:`update`: what the update did (voxels invalidated, settled,
+        reparented, ...; the library's ``update_stats``); None for a full solve.
 
     The arrays are views of the library's own result memory (no copy was made); they stay valid
     as long as any of them is referenced.
     """
 
     __slots__ = ("distance", "label", "parent", "seeds", "spacing", "origin", "orientation", "metric",
-                 "connectivity", "_handle", "_mask")
+                 "connectivity", "cut", "stats", "_handle", "_mask", "_change", "__weakref__")
 
     def __init__(self, handle, distance, label, parent, seeds, spacing, origin, metric, connectivity, mask,
-                 orientation=None):
+                 orientation=None, cut=None):
         self._handle = handle
         self.distance = distance
         self.label = label
@@ -107,6 +120,9 @@ class Diagram:
         self.metric = metric
         self.connectivity = connectivity
         self._mask = mask
+        self.cut = cut
+        self.stats = None
+        self._change = None  # (weakref to the diagram before, normalised change) after update()
 
     @property
     def shape(self) -> Tuple[int, ...]:
@@ -115,7 +131,78 @@ class Diagram:
 
     def __repr__(self) -> str:
         return (f"Diagram(shape={self.distance.shape}, seeds={len(self.seeds)}, dtype={self.distance.dtype}, "
-                f"metric={self.metric!r}, connectivity={self.connectivity})")
+                f"metric={self.metric!r}, connectivity={self.connectivity}"
+                f"{'' if self.cut is None else f', cut edges={len(self.cut)}'})")
+
+
+class Cut:
+    """A set of cut grid edges: the edges between neighbouring voxels that a cut separates (the
+    library's ``cut_set``), made by :func:`cut_from_mesh` or :func:`cut_from_polylines`.
+
+    A cut belongs to one grid (``shape``, ``spacing``, ``origin``, ``orientation``, all in
+    array-axis order) and one ``connectivity``; :func:`voronoi` and :func:`update` accept it only
+    on that grid. Memory is proportional to the cut's area (16 bytes per voxel that leaves a cut
+    edge), whatever the volume. Cuts are immutable: :meth:`merge` (or ``a | b``) returns a new one.
+
+    Attributes
+    ----------
+    shape, spacing, origin, orientation, connectivity
+        The grid and connectivity the cut was made for.
+    stats : dict
+        What the construction examined (``primitives``, ``degenerate``, ``voxels_visited``,
+        ``edges_tested``; the library's ``cut_stats``); empty for a merged cut.
+    """
+
+    __slots__ = ("_handle", "shape", "spacing", "origin", "orientation", "connectivity", "stats")
+
+    def __init__(self, handle, shape, spacing, origin, orientation, connectivity, stats=None):
+        self._handle = handle
+        self.shape = tuple(int(x) for x in shape)
+        self.spacing = spacing
+        self.origin = origin
+        self.orientation = orientation
+        self.connectivity = connectivity
+        self.stats = {} if stats is None else dict(stats)
+
+    def __len__(self) -> int:
+        """Number of cut edges."""
+        return len(self._handle)
+
+    def _check_compatible(self, other: "Cut") -> None:
+        if not isinstance(other, Cut):
+            raise TypeError(f"geovoronoi: expected a Cut, got {type(other).__name__}")
+        if (other.shape != self.shape or other.spacing != self.spacing or other.origin != self.origin
+                or not np.array_equal(other.orientation, self.orientation) or other.connectivity != self.connectivity):
+            raise ValueError(f"geovoronoi: the two cuts belong to different grids or connectivities "
+                             f"({self!r} and {other!r})")
+
+    def merge(self, other: "Cut") -> "Cut":
+        """A new cut holding the edges of both (same grid and connectivity)."""
+        self._check_compatible(other)
+        return Cut(self._handle._merge(other._handle), self.shape, self.spacing, self.origin, self.orientation,
+                   self.connectivity)
+
+    __or__ = merge
+
+    def edges(self) -> np.ndarray:
+        """The cut edges as an (m, 2) int64 array of flat C-order voxel indices ``(u, v)``
+        (``np.unravel_index(edges, cut.shape)`` gives array indices); each edge once, u < v, sorted
+        by u."""
+        return self._handle._edges()
+
+    def __eq__(self, other: Any) -> bool:
+        if not isinstance(other, Cut):
+            return NotImplemented
+        try:
+            self._check_compatible(other)
+        except ValueError:
+            return False
+        return bool(self._handle._equal(other._handle))
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        return f"Cut(edges={len(self)}, shape={self.shape}, connectivity={self.connectivity})"
 
 
 # ---- argument normalisation ----------------------------------------------------------------------
@@ -315,7 +402,7 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
             metric: str = "min_stiffness",
             connectivity: Optional[int] = None, mask: Any = None, world: bool = False, backend: str = "auto",
             threads: Optional[int] = None, progress: Optional[Callable[[float], Any]] = None,
-            parent: bool = False) -> Diagram:
+            parent: bool = False, cut: Optional["Cut"] = None) -> Diagram:
     """Geodesic Voronoi diagram of ``seeds`` on the grid of ``field``.
 
     Every voxel gets its geodesic distance to the nearest seed (shortest path on the voxel grid,
@@ -354,7 +441,13 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
         ``tqdm(total=100).update``, from the solver's progress hook (solve_options::progress); an
         exception it raises cancels the solve and propagates.
     parent : bool
-        Also compute the parent (predecessor) image.
+        Also compute the parent (predecessor) image. A diagram that :func:`update` will update needs
+        it (8 more bytes per voxel; no measurable extra time).
+    cut : Cut, optional
+        Solve with these grid edges removed (both directions): a cut separates two voxels without
+        removing either. It must have been made for this grid (shape, spacing, origin, orientation)
+        and connectivity. Every backend honours it, bitwise alike. The diagram remembers it
+        (``Diagram.cut``), and so do :func:`shape_functions` and :func:`update`.
 
     Returns
     -------
@@ -391,9 +484,11 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
         mask_array = np.asarray(mask)
     s = _points(seeds, ndim, bool(world), sp, org, f.shape, "seeds", orient)
     _check_seeds(f, s, m)
+    if cut is not None:
+        _check_cut(cut, f.shape, sp, org, orient, conn)
     handle, distance, label, par, seed_idx = _ext._voronoi(f, list(sp), list(org), m, conn, b, nthreads, s, False,
-                                                           bool(parent), cb)
-    return Diagram(handle, distance, label, par, seed_idx, sp, org, m, conn, mask_array, orient)
+                                                           bool(parent), cb, None if cut is None else cut._handle)
+    return Diagram(handle, distance, label, par, seed_idx, sp, org, m, conn, mask_array, orient, cut)
 
 
 def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 4, points: Any = None,
@@ -401,7 +496,7 @@ def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 
                     metric: Optional[str] = None, connectivity: Optional[int] = None, mask: Any = None,
                     backend: str = "auto", threads: Optional[int] = None,
                     progress: Optional[Callable[[float], Any]] = None, fixed_k: bool = False,
-                    batch_size: int = 4096):
+                    batch_size: int = 4096, cut: Optional["Cut"] = None):
     """Voronoi shape functions of the nodes (the seeds) at every voxel, or at ``points``.
 
     Parameters
@@ -431,6 +526,9 @@ def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 
         -1 and weight 0.
     batch_size : int
         Queries per backend call (Sibson, Laplace).
+    cut : Cut, optional
+        With seeds: solve and compute the weights with these edges cut (see :func:`voronoi`). A
+        :class:`Diagram` carries its own cuts (``Diagram.cut``), which are always used.
     progress : callable, optional
         Called with increments of the percentage done (they add up to 100); a tqdm bar's
         ``update`` works with ``total=100``. An exception it raises cancels the computation and
@@ -479,12 +577,14 @@ def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 
             raise ValueError(f"geovoronoi: connectivity {connectivity} differs from the diagram's {d.connectivity}")
         if mask is not None:
             raise ValueError("geovoronoi: pass the mask to voronoi(); a diagram carries its mask")
+        if cut is not None:
+            raise ValueError("geovoronoi: pass the cut to voronoi(); a diagram carries its cuts (Diagram.cut)")
         if d._mask is not None:
             f = _apply_mask(f, d._mask)
     else:
         d = voronoi(f, seeds_or_diagram, spacing=spacing, origin=origin, orientation=orientation,
                     metric="min_stiffness" if metric is None else metric, connectivity=connectivity, mask=mask,
-                    world=world, backend=backend, threads=threads)
+                    world=world, backend=backend, threads=threads, cut=cut)
         if d._mask is not None:
             f = _apply_mask(f, d._mask)
     qp = None
@@ -545,6 +645,444 @@ def interpolate(weights: Any, nodal_values: Any, *, shape: Optional[Sequence[int
     if shape is not None:
         out = out.reshape(tuple(shape) + values.shape[1:])
     return out
+
+
+# ---- cuts and incremental updates ---------------------------------------------------------------
+
+
+def _grid_args(shape: Any, spacing: Any, origin: Any, orientation: Any, connectivity: Any, ndim: int):
+    try:
+        shp = tuple(int(x) for x in shape)
+    except TypeError:
+        raise TypeError(f"geovoronoi: shape must be a sequence of {ndim} integers, got {shape!r}") from None
+    if len(shp) != ndim or any(x < 1 for x in shp):
+        raise ValueError(f"geovoronoi: shape must have {ndim} positive entries (array-axis order), got {shape!r}")
+    sp = _axis_tuple(spacing, ndim, "spacing", 1.0)
+    _check_spacing(sp)
+    org = _axis_tuple(origin, ndim, "origin", 0.0)
+    _check_origin(org)
+    return shp, sp, org, _orientation(orientation, ndim), _connectivity(connectivity, ndim)
+
+
+def _check_cut(cut: Any, shape, spacing, origin, orientation, connectivity, what: str = "cut") -> None:
+    if not isinstance(cut, Cut):
+        raise TypeError(f"geovoronoi: {what} must be a geovoronoi.Cut, got {type(cut).__name__}")
+    if cut.shape != tuple(shape):
+        raise ValueError(f"geovoronoi: the {what} was made for shape {cut.shape}, the field has shape {tuple(shape)}")
+    if cut.connectivity != connectivity:
+        raise ValueError(f"geovoronoi: the {what} was made for connectivity {cut.connectivity}, the solve uses "
+                         f"{connectivity}")
+    if cut.spacing != tuple(spacing) or cut.origin != tuple(origin):
+        raise ValueError(f"geovoronoi: the {what} was made for spacing {cut.spacing} and origin {cut.origin}, the "
+                         f"solve uses {tuple(spacing)} and {tuple(origin)}")
+    if not np.array_equal(cut.orientation, orientation):
+        raise ValueError(f"geovoronoi: the {what} was made for orientation {cut.orientation.tolist()}, the solve uses "
+                         f"{np.asarray(orientation).tolist()}")
+
+
+def cut_from_mesh(vertices: Any, triangles: Any, *, shape: Sequence[int], spacing: Any = None, origin: Any = None,
+                  orientation: Any = None, connectivity: Optional[int] = None) -> Cut:
+    """The grid edges that a triangle mesh cuts (the library's ``cut_from_mesh``).
+
+    An edge between two neighbouring voxels is cut when the closed segment between their centres
+    meets a closed triangle (touching counts). Vertices are rounded once onto a lattice of 2^-16
+    voxel, then every test is exact (docs/cuts.md).
+
+    Parameters
+    ----------
+    vertices : array_like, shape (n, 3)
+        World points in **array-axis order (z, y, x)**, like world seeds, ``spacing`` and
+        ``origin``: world = origin + orientation @ (index * spacing). :func:`read_mesh` returns
+        them in that order; a mesh in x, y, z columns (an STL file's) is ``vertices[:, ::-1]``.
+    triangles : array_like of int, shape (m, 3)
+        Vertex indices.
+    shape : sequence of 3 ints
+        The grid (the field's shape, ``[z, y, x]``).
+    spacing, origin, orientation, connectivity
+        As for :func:`voronoi`; the cut can only be used on that grid and connectivity.
+
+    Returns
+    -------
+    Cut
+
+    Raises
+    ------
+    ValueError
+        A vertex that is not finite or lies more than 2^24 voxels from the grid, a triangle index
+        out of range, bad shapes (the message names the vertex or triangle).
+    """
+    shp, sp, org, orient, conn = _grid_args(shape, spacing, origin, orientation, connectivity, 3)
+    v = np.asarray(vertices)
+    if v.dtype == object or v.dtype.kind not in "iuf":
+        raise TypeError(f"geovoronoi: vertices must be a numeric (n, 3) array, got dtype {v.dtype}")
+    if v.ndim != 2 or v.shape[1] != 3:
+        raise ValueError(f"geovoronoi: vertices must be an (n, 3) array of world points (z, y, x), got shape {v.shape}")
+    t = np.asarray(triangles)
+    if t.size == 0:
+        t = t.reshape(0, 3)
+    if t.dtype == object or t.dtype.kind not in "iu":
+        raise TypeError(f"geovoronoi: triangles must be an integer (m, 3) array, got dtype {t.dtype}")
+    if t.ndim != 2 or t.shape[1] != 3:
+        raise ValueError(f"geovoronoi: triangles must be an (m, 3) array of vertex indices, got shape {t.shape}")
+    handle, stats = _ext._cut_from_mesh(np.ascontiguousarray(v, np.float64), np.ascontiguousarray(t, np.int64),
+                                        list(shp), list(sp), list(org), [float(x) for x in orient.ravel()], conn)
+    return Cut(handle, shp, sp, org, orient, conn, stats)
+
+
+def cut_from_polylines(polylines: Any, *, shape: Sequence[int], spacing: Any = None, origin: Any = None,
+                       orientation: Any = None, connectivity: Optional[int] = None) -> Cut:
+    """The edges of a 2D grid that polylines cut (the library's ``cut_from_polylines``).
+
+    ``polylines`` is a list of (n, 2) arrays of world points in array-axis order (y, x), or one
+    such array; an edge is cut when its closed segment meets a polyline segment (touching counts),
+    a polyline of one point cuts the edges through that point. Other parameters as
+    :func:`cut_from_mesh` (``shape`` 2D, connectivity 4 or 8).
+    """
+    shp, sp, org, orient, conn = _grid_args(shape, spacing, origin, orientation, connectivity, 2)
+    if isinstance(polylines, np.ndarray) and polylines.ndim == 2:
+        polylines = [polylines]
+    lines = []
+    for i, line in enumerate(polylines):
+        a = np.asarray(line)
+        if a.dtype == object or a.dtype.kind not in "iuf":
+            raise TypeError(f"geovoronoi: polyline {i} must be a numeric (n, 2) array, got dtype {a.dtype}")
+        if a.ndim != 2 or a.shape[1] != 2 or a.shape[0] == 0:
+            raise ValueError(f"geovoronoi: polyline {i} must be an (n, 2) array of world points (y, x) with n >= 1, "
+                             f"got shape {a.shape}")
+        lines.append(np.ascontiguousarray(a, np.float64))
+    handle, stats = _ext._cut_from_polylines(lines, list(shp), list(sp), list(org), [float(x) for x in orient.ravel()],
+                                             conn)
+    return Cut(handle, shp, sp, org, orient, conn, stats)
+
+
+def read_mesh(path: Union[str, os.PathLike]) -> Tuple[np.ndarray, np.ndarray]:
+    """Read a triangle mesh: STL (ASCII or binary) or OBJ, by extension.
+
+    Returns
+    -------
+    (vertices, triangles)
+        ``vertices`` float64 (n, 3) in **array-axis order (z, y, x)**: the file's x, y, z columns
+        reversed, ready for :func:`cut_from_mesh`; ``triangles`` int64 (m, 3) vertex indices.
+
+    Raises
+    ------
+    OSError
+        Missing, unreadable or malformed file, unknown extension (the message names the file).
+    """
+    v, t = _ext._read_mesh(os.fspath(path))
+    return v, t
+
+
+_NODE_KINDS = ("add", "remove", "move")
+
+
+def _voxel_list(value: Any, shape, what: str) -> Optional[np.ndarray]:
+    """Flat C-order int64 indices from an (m, ndim) index array or a boolean mask of ``shape``."""
+    if value is None:
+        return None
+    a = np.asarray(value)
+    ndim = len(shape)
+    if a.dtype == np.bool_:
+        if a.shape != tuple(shape):
+            raise ValueError(f"geovoronoi: the {what} mask has shape {a.shape}, the field has shape {tuple(shape)}")
+        return np.flatnonzero(a).astype(np.int64)
+    if a.dtype == object or a.dtype.kind not in "iu":
+        raise TypeError(f"geovoronoi: {what} must be a boolean mask or an integer (m, {ndim}) array of array "
+                        f"indices, got dtype {a.dtype}")
+    if a.size == 0:
+        return np.zeros(0, np.int64)
+    if a.ndim == 1 and a.shape[0] == ndim:
+        a = a.reshape(1, ndim)
+    if a.ndim != 2 or a.shape[1] != ndim:
+        raise ValueError(f"geovoronoi: {what} must be a boolean mask or an (m, {ndim}) array of array indices, "
+                         f"got shape {a.shape}")
+    idx = a.astype(np.int64)
+    bad = ~np.all((idx >= 0) & (idx < np.asarray(shape)), axis=1)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"geovoronoi: {what} voxel {i} at {tuple(int(x) for x in idx[i])} lies outside the array of "
+                         f"shape {tuple(shape)}")
+    return np.ravel_multi_index(tuple(idx.T), tuple(shape)).astype(np.int64)
+
+
+def _voxel(value: Any, shape, what: str) -> list:
+    try:
+        c = [v for v in np.asarray(value).ravel()]
+        if np.asarray(value).dtype.kind not in "iu":
+            raise TypeError
+    except TypeError:
+        raise TypeError(f"geovoronoi: {what}: the voxel must be {len(shape)} integer array indices, got {value!r}") from None
+    if len(c) != len(shape):
+        raise ValueError(f"geovoronoi: {what}: the voxel must have {len(shape)} array indices, got {value!r}")
+    c = [int(x) for x in c]
+    if any(x < 0 or x >= n for x, n in zip(c, shape)):
+        raise ValueError(f"geovoronoi: {what}: voxel {tuple(c)} lies outside the array of shape {tuple(shape)}")
+    return c
+
+
+def _position(value: Any, what: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"geovoronoi: {what}: the position must be an integer, got {value!r}")
+    if value < 0:
+        raise ValueError(f"geovoronoi: {what}: the position must be >= 0, got {value}")
+    return int(value)
+
+
+def _node_edits(nodes: Any, shape) -> list:
+    """[(kind 0/1/2, position or -1, voxel list)] from ("add", voxel[, position]), ("remove", position),
+    ("move", position, voxel)."""
+    if nodes is None:
+        return []
+    out = []
+    for i, e in enumerate(nodes):
+        what = f"node edit {i}"
+        if not isinstance(e, (tuple, list)) or not e or not isinstance(e[0], str):
+            raise TypeError(f"geovoronoi: {what} must be a tuple (\"add\", voxel[, position]), (\"remove\", position) "
+                            f"or (\"move\", position, voxel), got {e!r}")
+        kind = e[0]
+        if kind not in _NODE_KINDS:
+            raise ValueError(f"geovoronoi: {what}: unknown kind {kind!r} (add, remove or move)")
+        if kind == "add":
+            if len(e) not in (2, 3):
+                raise ValueError(f"geovoronoi: {what}: expected (\"add\", voxel[, position]), got {e!r}")
+            out.append((0, _position(e[2], what) if len(e) == 3 else -1, _voxel(e[1], shape, what)))
+        elif kind == "remove":
+            if len(e) != 2:
+                raise ValueError(f"geovoronoi: {what}: expected (\"remove\", position), got {e!r}")
+            out.append((1, _position(e[1], what), []))
+        else:
+            if len(e) != 3:
+                raise ValueError(f"geovoronoi: {what}: expected (\"move\", position, voxel), got {e!r}")
+            out.append((2, _position(e[1], what), _voxel(e[2], shape, what)))
+    return out
+
+
+class _Change:
+    """A change normalised against the diagram before it (flat voxel lists, node edit tuples)."""
+
+    __slots__ = ("cut", "all", "carved", "added", "restiffened", "nodes")
+
+    def __init__(self, d: Diagram, cut, carved, added, restiffened, nodes):
+        shape = d.shape
+        if cut is not None:
+            _check_cut(cut, shape, d.spacing, d.origin, d.orientation, d.connectivity)
+        self.cut = cut
+        self.all = cut if d.cut is None else (d.cut if cut is None else d.cut.merge(cut))
+        self.carved = _voxel_list(carved, shape, "carved")
+        self.added = _voxel_list(added, shape, "added")
+        self.restiffened = _voxel_list(restiffened, shape, "restiffened")
+        self.nodes = _node_edits(nodes, shape)
+
+    def args(self):
+        return (None if self.cut is None else self.cut._handle, None if self.all is None else self.all._handle,
+                self.carved, self.added, self.restiffened, self.nodes)
+
+
+def _field_like(field: Any, d: Diagram, what: str) -> np.ndarray:
+    f = _field_array(field)
+    if f.shape != d.shape:
+        raise ValueError(f"geovoronoi: the {what} has shape {f.shape} but the diagram has shape {d.shape}")
+    if f.dtype != d.distance.dtype:
+        raise ValueError(f"geovoronoi: the diagram was computed on a {d.distance.dtype} field, the {what} is {f.dtype}")
+    if d._mask is not None:
+        f = _apply_mask(f, d._mask)
+    return f
+
+
+def update(diagram: Diagram, field_after: Any, *, cut: Optional[Cut] = None, carved: Any = None, added: Any = None,
+           restiffened: Any = None, nodes: Optional[Sequence[tuple]] = None) -> Diagram:
+    """The diagram after a change of its problem, bitwise equal to a full solve of the changed
+    problem, in work proportional to the region that changes (the library's ``update``).
+
+    The result equals ``voronoi(field_after, new_seeds, cut=all_cuts, parent=True, ...)`` with
+    the diagram's spacing, origin, orientation, metric, connectivity and mask, bit for bit
+    (distances, labels, parents), where ``all_cuts`` is ``diagram.cut`` merged with ``cut`` and
+    ``new_seeds`` is ``diagram.seeds`` with the node edits applied.
+
+    Parameters
+    ----------
+    diagram : Diagram
+        Computed with ``parent=True`` (the update follows its shortest-path tree), by
+        :func:`voronoi` or by an earlier :func:`update`. It is not modified.
+    field_after : array_like
+        The field after the change, same shape and dtype as the diagram's. It must differ from the
+        field the diagram was solved on **exactly** at the voxels listed in ``carved``, ``added`` and
+        ``restiffened`` (not checked: the field before is not kept; an unlisted change gives a wrong
+        result). Editing the field in place and passing it again is fine.
+    cut : Cut, optional
+        Newly cut edges (made for the diagram's grid and connectivity); the result remembers every
+        cut so far (``result.cut``).
+    carved, added, restiffened : array_like, optional
+        Voxels as an (m, ndim) array of array indices or a boolean mask of the field's shape.
+        ``carved``: outside the domain after the change (field value <= 0 or NaN; < 0, NaN or inf
+        for ``mean_cost``), and not a node; ``added``: inside the domain after the change;
+        ``restiffened``: any new value (stiffer, softer, entering or leaving the domain).
+    nodes : sequence of tuples, optional
+        Node (seed) edits, applied in order; positions are those of the list as it stands when the
+        edit applies, and labels are positions in the new list, as in a full solve:
+        ``("add", voxel)`` appends a node, ``("add", voxel, position)`` inserts it before
+        ``position``; ``("remove", position)``; ``("move", position, voxel)`` moves a node, keeping
+        its label. Voxels are array indices.
+
+    Returns
+    -------
+    Diagram
+        With parents, ``cut`` = every cut so far, and ``stats``: a dict of what the update did
+        (``invalidated``, ``settled``, ``reparented``, ``lowered``, ...).
+
+    Raises
+    ------
+    ValueError
+        The diagram has no parents; shapes, dtypes, the cut's grid or connectivity differ; a listed
+        voxel lies outside the grid; a carved voxel is still inside the domain or is a node; an added
+        voxel is outside the domain; a node edit names a position beyond the list; the new node list
+        has a node on a masked voxel or two nodes on one voxel (the library's messages).
+    TypeError
+        Arguments of the wrong type.
+
+    Notes
+    -----
+    The update is the library's single-threaded host algorithm (the same for every backend); the
+    GIL is released while it runs. It reports no progress.
+    """
+    if not isinstance(diagram, Diagram):
+        raise TypeError(f"geovoronoi: update needs a Diagram, got {type(diagram).__name__}")
+    d = diagram
+    if d.parent is None:
+        raise ValueError("geovoronoi: update needs a diagram with parents; compute it with voronoi(..., parent=True)")
+    f = _field_like(field_after, d, "field after the change")
+    ch = _Change(d, cut, carved, added, restiffened, nodes)
+    (handle, distance, label, par, seed_idx), stats = _ext._update(f, list(d.spacing), list(d.origin), d.metric,
+                                                                   d.connectivity, d._handle, *ch.args())
+    out = Diagram(handle, distance, label, par, seed_idx, d.spacing, d.origin, d.metric, d.connectivity, d._mask,
+                  d.orientation, ch.all)
+    out.stats = dict(stats)
+    out._change = (weakref.ref(d), ch)
+    return out
+
+
+def _fixed_k_weights(weights: Any, k: int, rows: int, nodes: int, dtype) -> Tuple[np.ndarray, np.ndarray, int]:
+    """(indices int32 (rows, k), weights (rows, k), node count) from a CSR or the fixed-K layout."""
+    import scipy.sparse
+
+    if isinstance(weights, tuple) and len(weights) == 3 and scipy.sparse.issparse(weights[0]):
+        weights = weights[1:]  # shape_functions(..., fixed_k=True)'s triple: use the fixed-K layout
+    if isinstance(weights, tuple):
+        if len(weights) != 2:
+            raise ValueError("geovoronoi: weights must be a scipy.sparse array, the (indices, weights) pair of the "
+                             "fixed-K layout or shape_functions(..., fixed_k=True)'s triple")
+        idx, w = (np.asarray(a) for a in weights)
+        if idx.shape != w.shape or idx.ndim < 2 or idx.shape[-1] != k or idx.size != rows * k:
+            raise ValueError(f"geovoronoi: the fixed-K weights have shapes {idx.shape} and {w.shape}; expected "
+                             f"{rows} rows of k={k} slots")
+        if w.dtype != dtype:
+            raise ValueError(f"geovoronoi: the weights are {w.dtype}, the field is {dtype}")
+        return (np.ascontiguousarray(idx.reshape(rows, k), np.int32), np.ascontiguousarray(w.reshape(rows, k)),
+                nodes)
+    if not scipy.sparse.issparse(weights):
+        raise TypeError(f"geovoronoi: weights must be a scipy.sparse array or an (indices, weights) pair, got "
+                        f"{type(weights).__name__}")
+    csr = scipy.sparse.csr_array(weights)
+    if csr.shape[0] != rows:
+        raise ValueError(f"geovoronoi: the weights have {csr.shape[0]} rows, expected {rows}")
+    if csr.dtype != dtype:
+        raise ValueError(f"geovoronoi: the weights are {csr.dtype}, the field is {dtype}")
+    counts = np.diff(csr.indptr)
+    if counts.size and counts.max() > k:
+        raise ValueError(f"geovoronoi: a row of the weights has {int(counts.max())} entries, more than k={k}")
+    # the library's slot order: larger weight first, ties to the lower node (a function of the stored
+    # values, so the fixed-K layout is rebuilt exactly)
+    row = np.repeat(np.arange(rows), counts)
+    order = np.lexsort((csr.indices, -csr.data.astype(np.float64), row))
+    slot = np.arange(order.size) - csr.indptr[row]
+    idx = np.full((rows, k), -1, np.int32)
+    w = np.zeros((rows, k), dtype)
+    idx[row, slot] = csr.indices[order]
+    w[row, slot] = csr.data[order]
+    return idx, w, int(csr.shape[1])
+
+
+def update_shape_functions(weights: Any, diagram_before: Diagram, diagram_after: Diagram, field_after: Any, *,
+                           method: str, k: int = 4, cut: Optional[Cut] = None, carved: Any = None,
+                           added: Any = None, restiffened: Any = None, nodes: Optional[Sequence[tuple]] = None,
+                           points: Any = None, world: bool = False, backend: str = "auto",
+                           threads: Optional[int] = None, progress: Optional[Callable[[float], Any]] = None,
+                           fixed_k: bool = False, batch_size: int = 4096, stats: bool = False):
+    """Shape functions after a change, bitwise equal to
+    ``shape_functions(field_after, diagram_after, method=method, k=k)`` (or its ``points=`` form),
+    recomputing only the rows whose weights can change (the library's ``update_shape_functions``).
+
+    Parameters
+    ----------
+    weights : scipy.sparse array, or (indices, weights), or shape_functions(..., fixed_k=True)'s triple
+        The shape functions of ``diagram_before`` with the same ``method``, ``k`` (and ``points``).
+        The method is not stored in the weights, so it cannot be checked.
+    diagram_before, diagram_after : Diagram
+        The diagrams before and after the change; ``diagram_after`` typically
+        ``update(diagram_before, field_after, ...)``, or a full solve of the changed problem.
+    field_after : array_like
+        The field after the change.
+    cut, carved, added, restiffened, nodes
+        The change, as for :func:`update`. Leave them all out when ``diagram_after`` was returned by
+        ``update(diagram_before, ...)``: the change it recorded is used.
+    points, world, method, k, backend, threads, progress, fixed_k, batch_size
+        As for :func:`shape_functions` (``points``: the points ``weights`` were computed at).
+    stats : bool
+        Also return what the update did: ``rows``, ``recomputed``, ``changed``, ``changed_voxels``,
+        ``region_voxels``, ``nodes_affected``, ``full`` (the library's ``shape_update_stats``).
+
+    Returns
+    -------
+    As :func:`shape_functions`; with ``stats=True`` a pair (that, dict).
+    """
+    for name, dd in (("diagram_before", diagram_before), ("diagram_after", diagram_after)):
+        if not isinstance(dd, Diagram):
+            raise TypeError(f"geovoronoi: {name} must be a Diagram, got {type(dd).__name__}")
+    db, da = diagram_before, diagram_after
+    if (da.shape != db.shape or da.spacing != db.spacing or da.origin != db.origin or da.metric != db.metric
+            or da.connectivity != db.connectivity or not np.array_equal(da.orientation, db.orientation)
+            or da.distance.dtype != db.distance.dtype):
+        raise ValueError("geovoronoi: the diagrams before and after the change differ in shape, dtype, spacing, "
+                         "origin, orientation, metric or connectivity")
+    if not isinstance(method, str):
+        raise TypeError(f"geovoronoi: method must be a string ({', '.join(METHODS)}), got {method!r}")
+    if method not in METHODS:
+        raise ValueError(f"geovoronoi: unknown method {method!r} ({', '.join(METHODS)})")
+    if isinstance(k, bool) or not isinstance(k, numbers.Integral):
+        raise TypeError(f"geovoronoi: k must be an integer, got {k!r}")
+    if k < 1:
+        raise ValueError(f"geovoronoi: k must be >= 1, got {k}")
+    if isinstance(batch_size, bool) or not isinstance(batch_size, numbers.Integral) or batch_size < 1:
+        raise ValueError(f"geovoronoi: batch_size must be an integer >= 1, got {batch_size!r}")
+    cb = _progress(progress)
+    f = _field_like(field_after, da, "field after the change")
+    given = any(x is not None for x in (cut, carved, added, restiffened, nodes))
+    if not given and da._change is not None and da._change[0]() is db:
+        ch = da._change[1]
+    else:
+        ch = _Change(db, cut, carved, added, restiffened, nodes)
+        if not ((ch.all is None and (da.cut is None or len(da.cut) == 0)) or
+                (ch.all is not None and da.cut is not None and ch.all == da.cut)):
+            raise ValueError("geovoronoi: diagram_after's cuts are not diagram_before's with the change's cut added")
+    qp = None
+    rows = f.size
+    if points is not None:
+        qp = np.ascontiguousarray(_points(points, f.ndim, bool(world), da.spacing, da.origin, f.shape, "points",
+                                          da.orientation), np.int64)
+        rows = len(qp)
+    idx, w, ncols = _fixed_k_weights(weights, int(k), rows, len(db.seeds), f.dtype)
+    (data, indices, indptr, nnodes, fixed_idx, fixed_w), st = _ext._update_shape_functions(
+        f, list(da.spacing), list(da.origin), da.metric, da.connectivity, _backend(backend), _threads(threads),
+        db._handle, da._handle, *ch.args(), method, int(k), int(batch_size), cb, idx, w, ncols, qp)
+    import scipy.sparse
+
+    res = scipy.sparse.csr_array((data, indices, indptr), shape=(rows, int(nnodes)))
+    if fixed_k:
+        if qp is None:
+            fixed_idx = fixed_idx.reshape(f.shape + (int(k),))
+            fixed_w = fixed_w.reshape(f.shape + (int(k),))
+        res = (res, fixed_idx, fixed_w)
+    return (res, dict(st)) if stats else res
 
 
 # ---- images -----------------------------------------------------------------------------------------

@@ -102,6 +102,7 @@ def _common(p):
     p.add_argument("--connectivity", type=int, default=26)
     p.add_argument("--backend", default="auto")
     p.add_argument("--world", action="store_true")
+    p.add_argument("--cut", action="append", default=[], metavar="MESH")
     p.add_argument("--out", required=True)
 
 
@@ -162,8 +163,17 @@ def main(argv=None) -> int:
             if not 1 <= args.nodes_per_voxel <= 64:
                 raise _UsageError(f"option --nodes-per-voxel must be an integer from 1 to 64, got "
                                   f"'{args.nodes_per_voxel}'")
+        cut = None
+        for mesh in args.cut:  # the union of every --cut mesh, like the C++ tool
+            vertices, triangles = gv.read_mesh(mesh)
+            try:
+                c = gv.cut_from_mesh(vertices, triangles, shape=field.shape, spacing=spacing, origin=origin,
+                                     orientation=orientation, connectivity=args.connectivity)
+            except ValueError as e:
+                raise _UsageError(f"{mesh}: {e}") from None
+            cut = c if cut is None else cut.merge(c)
         d = gv.voronoi(field, seeds, spacing=spacing, origin=origin, orientation=orientation, metric=args.metric,
-                       connectivity=args.connectivity, world=args.world, backend=args.backend)
+                       connectivity=args.connectivity, world=args.world, backend=args.backend, cut=cut)
         if os.path.exists(args.out) and not os.path.isdir(args.out):
             raise _UsageError(f"{args.out}: exists and is not a folder")
         os.makedirs(args.out, exist_ok=True)

@@ -1,15 +1,48 @@
 """Type stubs of the private extension module (use the functions of ``geovoronoi`` instead)."""
-from typing import Any, Callable, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 import numpy.typing as npt
 
-class _DiagramHandle: ...
+class _CutHandle:
+    _connectivity: int
+    def __len__(self) -> int: ...
+    def _merge(self, other: _CutHandle) -> _CutHandle: ...
+    def _edges(self) -> npt.NDArray[np.int64]: ...
+    def _equal(self, other: _CutHandle) -> bool: ...
+
+class _DiagramHandle:
+    def _cuts(self) -> _CutHandle: ...
+
+_NodeEdit = Tuple[int, int, List[int]]
+_DiagramArrays = Tuple[_DiagramHandle, np.ndarray, np.ndarray, Optional[np.ndarray], np.ndarray]
+_WeightArrays = Tuple[np.ndarray, np.ndarray, np.ndarray, int, np.ndarray, np.ndarray]
 
 def _voronoi(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float], metric: str,
              connectivity: int, backend: str, threads: int, seeds: npt.NDArray[Any], world: bool,
-             with_parent: bool, progress: Optional[Callable[[float], Any]]
-             ) -> Tuple[_DiagramHandle, np.ndarray, np.ndarray, Optional[np.ndarray], np.ndarray]: ...
+             with_parent: bool, progress: Optional[Callable[[float], Any]], cut: Optional[_CutHandle] = None
+             ) -> _DiagramArrays: ...
+def _update(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float], metric: str,
+            connectivity: int, before: _DiagramHandle, cut: Optional[_CutHandle], all: Optional[_CutHandle],
+            carved: Optional[npt.NDArray[np.int64]], added: Optional[npt.NDArray[np.int64]],
+            restiffened: Optional[npt.NDArray[np.int64]], nodes: Sequence[_NodeEdit]
+            ) -> Tuple[_DiagramArrays, Dict[str, int]]: ...
+def _update_shape_functions(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float],
+                            metric: str, connectivity: int, backend: str, threads: int, before: _DiagramHandle,
+                            after: _DiagramHandle, cut: Optional[_CutHandle], all: Optional[_CutHandle],
+                            carved: Optional[npt.NDArray[np.int64]], added: Optional[npt.NDArray[np.int64]],
+                            restiffened: Optional[npt.NDArray[np.int64]], nodes: Sequence[_NodeEdit], method: str,
+                            k: int, batch_size: int, progress: Optional[Callable[[float], Any]],
+                            old_node: npt.NDArray[np.int32], old_weight: npt.NDArray[np.floating], old_nodes: int,
+                            points: Optional[npt.NDArray[np.int64]]
+                            ) -> Tuple[_WeightArrays, Dict[str, Any]]: ...
+def _cut_from_mesh(vertices: npt.NDArray[np.float64], triangles: npt.NDArray[np.int64], shape: Sequence[int],
+                   spacing: Sequence[float], origin: Sequence[float], orientation: Sequence[float],
+                   connectivity: int) -> Tuple[_CutHandle, Dict[str, int]]: ...
+def _cut_from_polylines(lines: Sequence[npt.NDArray[np.float64]], shape: Sequence[int], spacing: Sequence[float],
+                        origin: Sequence[float], orientation: Sequence[float],
+                        connectivity: int) -> Tuple[_CutHandle, Dict[str, int]]: ...
+def _read_mesh(path: str) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]: ...
 def _shape_functions(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float], metric: str,
                      connectivity: int, backend: str, threads: int, diagram: _DiagramHandle, method: str, k: int,
                      batch_size: int, progress: Optional[Callable[[float], Any]],

@@ -1,6 +1,8 @@
 // Shared part of the extension geovoronoi._geovoronoi (python/src): argument translation and the
 // templated solve wrappers, instantiated per dtype in solve_float.cpp and solve_double.cpp so that
-// the two heavy translation units compile in parallel.
+// the two heavy translation units compile in parallel. The same wrappers on problems with cut edges,
+// and the incremental updates, are instantiated apart (cuts.hpp, cuts_float.cpp, cuts_double.cpp):
+// only the calls that involve cuts pay for those instantiations.
 //
 // geovoronoi._geovoronoi: the nanobind extension behind the Python package.
 //
@@ -233,12 +235,39 @@ struct progress_bridge {
 
 // ---- diagrams -------------------------------------------------------------------------------------
 
+/// A set of cut edges (the library's cut_set) shared by the Python objects that hold it: a Cut and
+/// every diagram solved with it. Immutable once built (a merge makes a new one). The cut_set's grid
+/// is the solve's grid (extents, spacing, origin, no orientation), so that the library's grid checks
+/// compare it with the problem's; the Python layer checks the orientation.
+struct cut_handle {
+  std::shared_ptr<const std::variant<gv::cut_set<2>, gv::cut_set<3>>> s;  // null: no cut
+  int connectivity = 0;
+  bool empty() const { return !s || std::visit([](const auto& c) { return c.empty(); }, *s); }
+};
+
 /// A diagram computed by the library, owned by a Python object; NumPy arrays view into it.
 struct diagram_handle {
   std::variant<gv::diagram<float, 2>, gv::diagram<float, 3>, gv::diagram<double, 2>, gv::diagram<double, 3>> d;
   std::string metric;
   int connectivity = 0;
+  cut_handle cuts;  ///< every cut edge the diagram was solved with (none: no cut)
 };
+
+/// Calls f with problem @p p, or with p and the cut edges of @p cut when Cuts is true (the table
+/// lives for the call). The cut set must be of p's grid and connectivity.
+template <bool Cuts, class P, class F>
+void with_problem(const P& p, const cut_handle* cut, F&& f) {
+  if constexpr (Cuts) {
+    const auto* cs = std::get_if<gv::cut_set<P::dim>>(cut->s.get());
+    if (!cs || cs->directions() != P::neighbours || !(cs->geometry() == p.geometry))
+      throw std::invalid_argument("geovoronoi: the cut belongs to another grid or connectivity than the field");
+    const gv::cut_table table(*cs);
+    f(gv::with_cuts(p, table));
+  } else {
+    (void)cut;
+    f(p);
+  }
+}
 
 struct problem_args {
   in_array field;
@@ -272,9 +301,25 @@ std::vector<gv::coord<Dim>> seeds_to_coords(const gv::grid<Dim>& g, const in_arr
   return out;
 }
 
+/// (distance, label, parent or None, seeds) of diagram @p d as NumPy views owned by @p owner.
 template <class T, int Dim>
+nb::object diagram_arrays(gv::diagram<T, Dim>& d, const std::vector<std::size_t>& shape, nb::handle owner) {
+  nb::object distance = view_to_numpy<T>(d.distance.data(), shape, owner);
+  nb::object label = view_to_numpy<label_t>(d.label.data(), shape, owner);
+  nb::object parent = nb::none();
+  if (d.parent.size() != 0) parent = view_to_numpy<index_t>(d.parent.data(), shape, owner);
+  std::vector<std::int64_t> sv(d.seeds.size() * Dim);
+  for (std::size_t i = 0; i < d.seeds.size(); ++i) {
+    const auto c = d.geometry().coords(d.seeds[i]);
+    for (int ax = 0; ax < Dim; ++ax) sv[i * Dim + std::size_t(Dim - 1 - ax)] = c[ax];
+  }
+  nb::object seed_array = vector_to_numpy(std::move(sv), {d.seeds.size(), std::size_t(Dim)});
+  return nb::make_tuple(owner, distance, label, parent, seed_array);
+}
+
+template <class T, int Dim, bool Cuts>
 nb::object voronoi_impl(const problem_args& a, const in_array& seeds, bool world, bool with_parent,
-                        nb::object progress) {
+                        nb::object progress, const cut_handle* cut) {
   std::vector<std::size_t> shape(a.field.ndim());
   for (std::size_t i = 0; i < shape.size(); ++i) shape[i] = a.field.shape(i);
   const auto g = make_grid<Dim>(shape, a.spacing, a.origin);
@@ -294,6 +339,7 @@ nb::object voronoi_impl(const problem_args& a, const in_array& seeds, bool world
   auto* h = new diagram_handle;
   h->metric = a.metric;
   h->connectivity = a.connectivity;
+  if (cut) h->cuts = *cut;
   nb::object owner = nb::cast(h, nb::rv_policy::take_ownership);
   try {
     nb::gil_scoped_release release;
@@ -301,8 +347,10 @@ nb::object voronoi_impl(const problem_args& a, const in_array& seeds, bool world
     const auto t0 = std::chrono::steady_clock::now();
     with_metric(a.metric, [&](auto metric) {
       with_connectivity<Dim>(a.connectivity, [&](auto conn) {
-        const auto p = gv::make_problem(g, gv::image_view<const T, Dim>(g, field), metric, conn);
-        with_backend(backend, [&](const auto& policy) { h->d = gv::voronoi(policy, p, coords, opt); });
+        const auto p0 = gv::make_problem(g, gv::image_view<const T, Dim>(g, field), metric, conn);
+        with_problem<Cuts>(p0, cut, [&](const auto& p) {
+          with_backend(backend, [&](const auto& policy) { h->d = gv::voronoi(policy, p, coords, opt); });
+        });
       });
     });
     last_core_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -312,16 +360,7 @@ nb::object voronoi_impl(const problem_args& a, const in_array& seeds, bool world
   }
   if (bridge.error) throw std::move(*bridge.error);
   bridge.finish();
-  auto& d = std::get<gv::diagram<T, Dim>>(h->d);
-  nb::object distance = view_to_numpy<T>(d.distance.data(), shape, owner);
-  nb::object label = view_to_numpy<label_t>(d.label.data(), shape, owner);
-  nb::object parent = nb::none();
-  if (with_parent) parent = view_to_numpy<index_t>(d.parent.data(), shape, owner);
-  std::vector<std::int64_t> sv(coords.size() * Dim);
-  for (std::size_t i = 0; i < coords.size(); ++i)
-    for (int ax = 0; ax < Dim; ++ax) sv[i * Dim + std::size_t(Dim - 1 - ax)] = coords[i][ax];
-  nb::object seed_array = vector_to_numpy(std::move(sv), {coords.size(), std::size_t(Dim)});
-  return nb::make_tuple(owner, distance, label, parent, seed_array);
+  return diagram_arrays(std::get<gv::diagram<T, Dim>>(h->d), shape, owner);
 }
 
 // ---- shape functions ------------------------------------------------------------------------------
@@ -333,18 +372,18 @@ inline gv::shape_method parse_method(const std::string& m) {
   throw std::invalid_argument("geovoronoi: unknown method '" + m + "' (distance_ratio, sibson or laplace)");
 }
 
+/// The checks and options every shape-function call shares.
 template <class T, int Dim>
-nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::string& method, int k,
-                      std::size_t batch_size, nb::object progress, const std::optional<in_array>& points) {
+gv::diagram<T, Dim>& checked_diagram(const problem_args& a, diagram_handle& h) {
   auto* dp = std::get_if<gv::diagram<T, Dim>>(&h.d);
   if (!dp) throw std::invalid_argument("geovoronoi: the diagram was computed on a field of another dtype or dimension");
   if (h.metric != a.metric || h.connectivity != a.connectivity)
     throw std::invalid_argument("geovoronoi: the diagram was computed with another metric or connectivity");
-  std::vector<std::size_t> shape(a.field.ndim());
-  for (std::size_t i = 0; i < shape.size(); ++i) shape[i] = a.field.shape(i);
-  const auto g = make_grid<Dim>(shape, a.spacing, a.origin);
-  const T* field = static_cast<const T*>(a.field.data());
-  last_field_address = reinterpret_cast<std::uintptr_t>(field);
+  return *dp;
+}
+
+inline gv::shape_options make_shape_options(const problem_args& a, const std::string& method, int k,
+                                            std::size_t batch_size, progress_bridge& bridge) {
   const std::string backend = resolve_backend(a.backend);
   if (backend == "seq" && a.threads > 1)
     throw std::invalid_argument("geovoronoi: backend 'seq' runs on one thread; threads=" + std::to_string(a.threads) +
@@ -354,36 +393,19 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
   opt.max_nodes_per_voxel = k;
   opt.batch_size = batch_size;
   opt.threads = a.threads > 0 ? unsigned(a.threads) : 0u;
-  progress_bridge bridge{progress, 0.0, std::nullopt};
-  opt.progress = [&](double f) { return bridge(f); };
-  // Without points: every voxel (shape_functions); with points: only those voxels (shape_functions_at),
-  // given as int64 array indices [z, y, x] already bounds-checked by the Python layer.
-  std::optional<std::vector<gv::coord<Dim>>> at;
-  if (points) at = seeds_to_coords<Dim>(g, *points, false);
-  std::vector<label_t> node;
-  std::vector<T> weight;
-  std::size_t kk = 0, nodes = 0;
+  opt.progress = [&bridge](double f) { return bridge(f); };
+  return opt;
+}
+
+/// Runs f() with the GIL released and the thread count set, turning a cancellation caused by the
+/// bridge back into its Python exception.
+template <class F>
+void run_released(const problem_args& a, progress_bridge& bridge, F&& f) {
   try {
     nb::gil_scoped_release release;
     thread_count_scope threads(a.threads);
     const auto t0 = std::chrono::steady_clock::now();
-    with_metric(a.metric, [&](auto metric) {
-      with_connectivity<Dim>(a.connectivity, [&](auto conn) {
-        const auto p = gv::make_problem(g, gv::image_view<const T, Dim>(g, field), metric, conn);
-        with_backend(backend, [&](const auto& policy) {
-          auto take = [&](auto&& w) {
-            kk = std::size_t(w.k);
-            nodes = w.nodes;
-            node = std::move(w.node);
-            weight = std::move(w.weight);
-          };
-          if (at)
-            take(gv::shape_functions_at(policy, p, *dp, *at, opt));
-          else
-            take(gv::shape_functions(policy, p, *dp, opt));
-        });
-      });
-    });
+    f();
     last_core_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   } catch (const gv::cancelled&) {
     if (bridge.error) throw std::move(*bridge.error);
@@ -393,8 +415,14 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
   // finished when it asked to stop
   if (bridge.error) throw std::move(*bridge.error);
   bridge.finish();
-  // CSR (voxels or points x nodes), column indices sorted within each row.
-  const std::size_t n = at ? at->size() : std::size_t(g.size());
+}
+
+/// (data, indices, indptr, nodes, fixed-K indices, fixed-K weights) of n rows of kk slots: the CSR
+/// (rows x nodes, column indices sorted within each row) and the library's fixed-K layout with the
+/// array shape @p kshape (rows' shape + (kk,)).
+template <class T>
+nb::object weights_to_python(std::vector<label_t>&& node, std::vector<T>&& weight, std::size_t n, std::size_t kk,
+                             std::size_t nodes, std::vector<std::size_t> kshape) {
   std::vector<std::int64_t> indptr(n + 1, 0);
   std::vector<std::int32_t> indices;
   std::vector<T> data;
@@ -409,13 +437,12 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
     for (std::size_t s = 0; s < kk; ++s)
       if (node[v * kk + s] >= 0) row.emplace_back(node[v * kk + s], weight[v * kk + s]);
     std::sort(row.begin(), row.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-    for (const auto& [node, weight] : row) {
-      indices.push_back(node);
-      data.push_back(weight);
+    for (const auto& [nd, w] : row) {
+      indices.push_back(nd);
+      data.push_back(w);
     }
     indptr[v + 1] = std::int64_t(indices.size());
   }
-  std::vector<std::size_t> kshape = at ? std::vector<std::size_t>{n} : shape;
   kshape.push_back(kk);
   nb::object fixed_idx = vector_to_numpy(std::move(node), kshape);
   nb::object fixed_w = vector_to_numpy(std::move(weight), kshape);
@@ -423,31 +450,80 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
                         vector_to_numpy(std::move(indptr), {n + 1}), nodes, fixed_idx, fixed_w);
 }
 
-/// voronoi() on a T field of 2 or 3 dimensions (defined in solve_<T>.cpp).
-template <class T>
+template <class T, int Dim, bool Cuts>
+nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::string& method, int k,
+                      std::size_t batch_size, nb::object progress, const std::optional<in_array>& points) {
+  auto* dp = &checked_diagram<T, Dim>(a, h);
+  std::vector<std::size_t> shape(a.field.ndim());
+  for (std::size_t i = 0; i < shape.size(); ++i) shape[i] = a.field.shape(i);
+  const auto g = make_grid<Dim>(shape, a.spacing, a.origin);
+  const T* field = static_cast<const T*>(a.field.data());
+  last_field_address = reinterpret_cast<std::uintptr_t>(field);
+  progress_bridge bridge{progress, 0.0, std::nullopt};
+  const gv::shape_options opt = make_shape_options(a, method, k, batch_size, bridge);
+  const std::string backend = resolve_backend(a.backend);
+  // Without points: every voxel (shape_functions); with points: only those voxels (shape_functions_at),
+  // given as int64 array indices [z, y, x] already bounds-checked by the Python layer.
+  std::optional<std::vector<gv::coord<Dim>>> at;
+  if (points) at = seeds_to_coords<Dim>(g, *points, false);
+  std::vector<label_t> node;
+  std::vector<T> weight;
+  std::size_t kk = 0, nodes = 0;
+  run_released(a, bridge, [&] {
+    with_metric(a.metric, [&](auto metric) {
+      with_connectivity<Dim>(a.connectivity, [&](auto conn) {
+        const auto p0 = gv::make_problem(g, gv::image_view<const T, Dim>(g, field), metric, conn);
+        with_problem<Cuts>(p0, &h.cuts, [&](const auto& p) {
+          with_backend(backend, [&](const auto& policy) {
+            auto take = [&](auto&& w) {
+              kk = std::size_t(w.k);
+              nodes = w.nodes;
+              node = std::move(w.node);
+              weight = std::move(w.weight);
+            };
+            if (at)
+              take(gv::shape_functions_at(policy, p, *dp, *at, opt));
+            else
+              take(gv::shape_functions(policy, p, *dp, opt));
+          });
+        });
+      });
+    });
+  });
+  const std::size_t n = at ? at->size() : std::size_t(g.size());
+  return weights_to_python(std::move(node), std::move(weight), n, kk, nodes,
+                           at ? std::vector<std::size_t>{n} : shape);
+}
+
+/// voronoi() on a T field of 2 or 3 dimensions, with the edges of @p cut removed when it is not null
+/// (defined in solve_<T>.cpp, and in cuts_<T>.cpp for the cut form).
+template <class T, bool Cuts>
 nb::object voronoi_typed(const problem_args& a, const in_array& seeds, bool world, bool with_parent,
-                         nb::object progress) {
-  if (a.field.ndim() == 2) return voronoi_impl<T, 2>(a, seeds, world, with_parent, progress);
-  if (a.field.ndim() == 3) return voronoi_impl<T, 3>(a, seeds, world, with_parent, progress);
+                         nb::object progress, const cut_handle* cut) {
+  if (a.field.ndim() == 2) return voronoi_impl<T, 2, Cuts>(a, seeds, world, with_parent, progress, cut);
+  if (a.field.ndim() == 3) return voronoi_impl<T, 3, Cuts>(a, seeds, world, with_parent, progress, cut);
   throw std::invalid_argument("geovoronoi: the field must be a 2D or 3D array, got " + std::to_string(a.field.ndim()) +
                               " dimensions");
 }
 
-/// shape_functions() on a T field of 2 or 3 dimensions (defined in solve_<T>.cpp).
-template <class T>
+/// shape_functions() on a T field of 2 or 3 dimensions (Cuts: with the diagram's cut edges).
+template <class T, bool Cuts>
 nb::object shape_typed(const problem_args& a, diagram_handle& h, const std::string& method, int k,
                        std::size_t batch_size, nb::object progress, const std::optional<in_array>& points) {
-  if (a.field.ndim() == 2) return shape_impl<T, 2>(a, h, method, k, batch_size, progress, points);
-  if (a.field.ndim() == 3) return shape_impl<T, 3>(a, h, method, k, batch_size, progress, points);
+  if (a.field.ndim() == 2) return shape_impl<T, 2, Cuts>(a, h, method, k, batch_size, progress, points);
+  if (a.field.ndim() == 3) return shape_impl<T, 3, Cuts>(a, h, method, k, batch_size, progress, points);
   throw std::invalid_argument("geovoronoi: the field must be a 2D or 3D array, got " + std::to_string(a.field.ndim()) +
                               " dimensions");
 }
 
-#define GEOVORONOI_PY_DECLARE(T, EXTERN)                                                                      \
-  EXTERN template nb::object voronoi_typed<T>(const problem_args&, const in_array&, bool, bool, nb::object); \
-  EXTERN template nb::object shape_typed<T>(const problem_args&, diagram_handle&, const std::string&, int, \
-                                            std::size_t, nb::object, const std::optional<in_array>&);
-GEOVORONOI_PY_DECLARE(float, extern)
-GEOVORONOI_PY_DECLARE(double, extern)
+#define GEOVORONOI_PY_DECLARE(T, CUTS, EXTERN)                                                                      \
+  EXTERN template nb::object voronoi_typed<T, CUTS>(const problem_args&, const in_array&, bool, bool, nb::object, \
+                                                    const cut_handle*);                                          \
+  EXTERN template nb::object shape_typed<T, CUTS>(const problem_args&, diagram_handle&, const std::string&, int,  \
+                                                  std::size_t, nb::object, const std::optional<in_array>&);
+GEOVORONOI_PY_DECLARE(float, false, extern)
+GEOVORONOI_PY_DECLARE(double, false, extern)
+GEOVORONOI_PY_DECLARE(float, true, extern)
+GEOVORONOI_PY_DECLARE(double, true, extern)
 
 }  // namespace gvpy

@@ -6,31 +6,235 @@
 // wrappers are compiled per dtype in solve_float.cpp and solve_double.cpp).
 
 #include "bindings.hpp"
+#include "cuts.hpp"
 
+#include <geovoronoi/cut_from_mesh.hpp>
+#include <geovoronoi/io/mesh.hpp>
 #include <geovoronoi/io/metaimage.hpp>
 #include <geovoronoi/io/vti.hpp>
 
 using namespace gvpy;
 
 namespace {
-nb::object voronoi_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
-                         int connectivity, std::string backend, int threads, in_array seeds, bool world,
-                         bool with_parent, nb::object progress) {
-  problem_args a{field, std::move(spacing), std::move(origin), std::move(metric), connectivity, std::move(backend), threads};
+bool is_f32(const in_array& field) {
   const bool f32 = field.dtype() == nb::dtype<float>(), f64 = field.dtype() == nb::dtype<double>();
   if (!f32 && !f64) throw nb::type_error("geovoronoi: the field must be float32 or float64");
-  return f32 ? voronoi_typed<float>(a, seeds, world, with_parent, progress)
-             : voronoi_typed<double>(a, seeds, world, with_parent, progress);
+  return f32;
+}
+
+nb::object voronoi_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
+                         int connectivity, std::string backend, int threads, in_array seeds, bool world,
+                         bool with_parent, nb::object progress, std::optional<cut_handle> cut) {
+  problem_args a{field, std::move(spacing), std::move(origin), std::move(metric), connectivity, std::move(backend), threads};
+  const bool f32 = is_f32(field);
+  if (cut && cut->s) {
+    if (cut->connectivity != connectivity)
+      throw std::invalid_argument("geovoronoi: the cut was made for connectivity " + std::to_string(cut->connectivity) +
+                                  ", the solve uses " + std::to_string(connectivity));
+    return f32 ? voronoi_typed<float, true>(a, seeds, world, with_parent, progress, &*cut)
+               : voronoi_typed<double, true>(a, seeds, world, with_parent, progress, &*cut);
+  }
+  return f32 ? voronoi_typed<float, false>(a, seeds, world, with_parent, progress, nullptr)
+             : voronoi_typed<double, false>(a, seeds, world, with_parent, progress, nullptr);
+}
+
+change_args make_change_args(std::optional<cut_handle> cut, std::optional<cut_handle> all, std::optional<in_array> carved,
+                             std::optional<in_array> added, std::optional<in_array> restiffened,
+                             std::vector<node_edit_args> nodes) {
+  change_args c;
+  if (cut) c.cut = *cut;
+  if (all) c.all = *all;
+  c.carved = std::move(carved);
+  c.added = std::move(added);
+  c.restiffened = std::move(restiffened);
+  c.nodes = std::move(nodes);
+  return c;
+}
+
+nb::object update_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
+                        int connectivity, diagram_handle& before, std::optional<cut_handle> cut,
+                        std::optional<cut_handle> all, std::optional<in_array> carved, std::optional<in_array> added,
+                        std::optional<in_array> restiffened, std::vector<node_edit_args> nodes) {
+  problem_args a{field, std::move(spacing), std::move(origin), std::move(metric), connectivity, "seq", 0};
+  const change_args c = make_change_args(std::move(cut), std::move(all), std::move(carved), std::move(added),
+                                         std::move(restiffened), std::move(nodes));
+  return is_f32(field) ? update_typed<float>(a, before, c) : update_typed<double>(a, before, c);
+}
+
+nb::object shape_update_entry(in_array field, std::vector<double> spacing, std::vector<double> origin,
+                              std::string metric, int connectivity, std::string backend, int threads,
+                              diagram_handle& before, diagram_handle& after, std::optional<cut_handle> cut,
+                              std::optional<cut_handle> all, std::optional<in_array> carved,
+                              std::optional<in_array> added, std::optional<in_array> restiffened,
+                              std::vector<node_edit_args> nodes, std::string method, int k, std::size_t batch_size,
+                              nb::object progress, in_array old_node, in_array old_weight, std::size_t old_nodes,
+                              std::optional<in_array> points) {
+  problem_args a{field, std::move(spacing), std::move(origin), std::move(metric), connectivity, std::move(backend), threads};
+  const change_args c = make_change_args(std::move(cut), std::move(all), std::move(carved), std::move(added),
+                                         std::move(restiffened), std::move(nodes));
+  return is_f32(field) ? shape_update_typed<float>(a, before, after, c, method, k, batch_size, progress, old_node,
+                                                   old_weight, old_nodes, points)
+                       : shape_update_typed<double>(a, before, after, c, method, k, batch_size, progress, old_node,
+                                                    old_weight, old_nodes, points);
+}
+
+// ---- cuts -------------------------------------------------------------------------------------------
+
+/// The cut set @p s moved onto grid @p g (same extents; the solve's grid, without orientation).
+template <int Dim, int N>
+gv::cut_set<Dim> rehome(const gv::cut_set<Dim>& s, const gv::grid<Dim>& g, gv::connectivity<N> conn) {
+  gv::cut_builder<Dim> b(g, conn);
+  for (const auto& e : s) b.insert_unchecked(e.voxel, e.forward);
+  return b.build();
+}
+
+nb::dict cut_stats_dict(const gv::cut_stats& st) {
+  nb::dict d;
+  d["primitives"] = st.primitives;
+  d["degenerate"] = st.degenerate;
+  d["voxels_visited"] = st.voxels_visited;
+  d["edges_tested"] = st.edges_tested;
+  return d;
+}
+
+/// (cut, stats) of a triangle mesh whose vertices are world points in array-axis order (z, y, x).
+nb::object cut_from_mesh_entry(in_array vertices, in_array triangles, std::vector<std::size_t> shape,
+                               std::vector<double> spacing, std::vector<double> origin, std::vector<double> orientation,
+                               int connectivity) {
+  if (vertices.dtype() != nb::dtype<double>() || vertices.ndim() != 2 || vertices.shape(1) != 3)
+    throw std::invalid_argument("geovoronoi: vertices must be an (n, 3) float64 array");
+  if (triangles.dtype() != nb::dtype<std::int64_t>() || triangles.ndim() != 2 || triangles.shape(1) != 3)
+    throw std::invalid_argument("geovoronoi: triangles must be an (m, 3) int64 array");
+  gv::triangle_mesh mesh;
+  const auto* vp = static_cast<const double*>(vertices.data());
+  for (std::size_t i = 0; i < vertices.shape(0); ++i) mesh.vertices.push_back({vp[3 * i + 2], vp[3 * i + 1], vp[3 * i]});
+  const auto* tp = static_cast<const std::int64_t*>(triangles.data());
+  for (std::size_t t = 0; t < triangles.shape(0); ++t) {
+    std::array<std::uint32_t, 3> tri{};
+    for (int k = 0; k < 3; ++k) {
+      const std::int64_t x = tp[3 * t + std::size_t(k)];
+      if (x < 0 || std::uint64_t(x) >= vertices.shape(0))
+        throw std::invalid_argument("geovoronoi: triangle " + std::to_string(t) + " refers to vertex " + std::to_string(x) +
+                                    " of " + std::to_string(vertices.shape(0)));
+      tri[std::size_t(k)] = std::uint32_t(x);
+    }
+    mesh.triangles.push_back(tri);
+  }
+  const auto g = make_grid<3>(shape, spacing, origin, orientation);
+  const auto plain = make_grid<3>(shape, spacing, origin);
+  cut_handle h;
+  h.connectivity = connectivity;
+  gv::cut_stats st;
+  {
+    nb::gil_scoped_release release;
+    with_connectivity<3>(connectivity, [&](auto conn) {
+      h.s = std::make_shared<const std::variant<gv::cut_set<2>, gv::cut_set<3>>>(
+          rehome(gv::cut_from_mesh(g, conn, mesh, &st), plain, conn));
+    });
+  }
+  return nb::make_tuple(h, cut_stats_dict(st));
+}
+
+/// (cut, stats) of 2D polylines whose points are world points in array-axis order (y, x).
+nb::object cut_from_polylines_entry(std::vector<in_array> lines, std::vector<std::size_t> shape,
+                                    std::vector<double> spacing, std::vector<double> origin,
+                                    std::vector<double> orientation, int connectivity) {
+  std::vector<std::vector<gv::point<2>>> pl;
+  for (std::size_t l = 0; l < lines.size(); ++l) {
+    const auto& a = lines[l];
+    if (a.dtype() != nb::dtype<double>() || a.ndim() != 2 || a.shape(1) != 2)
+      throw std::invalid_argument("geovoronoi: polyline " + std::to_string(l) + " must be an (n, 2) float64 array");
+    const auto* p = static_cast<const double*>(a.data());
+    std::vector<gv::point<2>> line;
+    for (std::size_t i = 0; i < a.shape(0); ++i) line.push_back({p[2 * i + 1], p[2 * i]});
+    pl.push_back(std::move(line));
+  }
+  const auto g = make_grid<2>(shape, spacing, origin, orientation);
+  const auto plain = make_grid<2>(shape, spacing, origin);
+  cut_handle h;
+  h.connectivity = connectivity;
+  gv::cut_stats st;
+  {
+    nb::gil_scoped_release release;
+    with_connectivity<2>(connectivity, [&](auto conn) {
+      h.s = std::make_shared<const std::variant<gv::cut_set<2>, gv::cut_set<3>>>(
+          rehome(gv::cut_from_polylines(g, conn, pl, &st), plain, conn));
+    });
+  }
+  return nb::make_tuple(h, cut_stats_dict(st));
+}
+
+std::size_t cut_size(const cut_handle& h) {
+  return h.s ? std::visit([](const auto& c) { return c.size(); }, *h.s) : 0;
+}
+
+cut_handle cut_merge(const cut_handle& a, const cut_handle& b) {
+  if (!a.s) return b;
+  if (!b.s) return a;
+  if (a.s->index() != b.s->index() || a.connectivity != b.connectivity)
+    throw std::invalid_argument("geovoronoi: the two cuts belong to grids of different dimensions or connectivities");
+  cut_handle out;
+  out.connectivity = a.connectivity;
+  std::visit(
+      [&](const auto& x) {
+        using S = std::decay_t<decltype(x)>;
+        S m = x;
+        m.merge(std::get<S>(*b.s));
+        out.s = std::make_shared<const std::variant<gv::cut_set<2>, gv::cut_set<3>>>(std::move(m));
+      },
+      *a.s);
+  return out;
+}
+
+/// The cut edges as an (m, 2) array of flat C-order voxel indices (u, v), u < v, sorted.
+nb::object cut_edges(const cut_handle& h) {
+  std::vector<std::int64_t> e;
+  if (h.s)
+    std::visit(
+        [&](const auto& c) {
+          c.for_each_edge([&](index_t u, int d) {
+            e.push_back(u);
+            e.push_back(c.neighbour(u, d));
+          });
+        },
+        *h.s);
+  const std::size_t m = e.size() / 2;
+  return vector_to_numpy(std::move(e), {m, 2});
+}
+
+bool cut_equal(const cut_handle& a, const cut_handle& b) {
+  if (!a.s || !b.s) return cut_size(a) == 0 && cut_size(b) == 0;
+  return *a.s == *b.s;
+}
+
+/// (vertices (n, 3) in array-axis order z, y, x, triangles (m, 3) int64) of an STL or OBJ file.
+nb::object read_mesh_entry(const std::string& path) {
+  const gv::triangle_mesh m = gio::read_mesh(path);
+  std::vector<double> v;
+  v.reserve(3 * m.vertices.size());
+  for (const auto& p : m.vertices) {
+    v.push_back(p[2]);
+    v.push_back(p[1]);
+    v.push_back(p[0]);
+  }
+  std::vector<std::int64_t> t;
+  t.reserve(3 * m.triangles.size());
+  for (const auto& tri : m.triangles)
+    for (int k = 0; k < 3; ++k) t.push_back(tri[std::size_t(k)]);
+  const std::size_t nv = m.vertices.size(), nt = m.triangles.size();
+  return nb::make_tuple(vector_to_numpy(std::move(v), {nv, 3}), vector_to_numpy(std::move(t), {nt, 3}));
 }
 
 nb::object shape_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
                        int connectivity, std::string backend, int threads, diagram_handle& h, std::string method, int k,
                        std::size_t batch_size, nb::object progress, std::optional<in_array> points) {
   problem_args a{field, std::move(spacing), std::move(origin), std::move(metric), connectivity, std::move(backend), threads};
-  const bool f32 = field.dtype() == nb::dtype<float>(), f64 = field.dtype() == nb::dtype<double>();
-  if (!f32 && !f64) throw nb::type_error("geovoronoi: the field must be float32 or float64");
-  return f32 ? shape_typed<float>(a, h, method, k, batch_size, progress, points)
-             : shape_typed<double>(a, h, method, k, batch_size, progress, points);
+  const bool f32 = is_f32(field);
+  if (!h.cuts.empty())
+    return f32 ? shape_typed<float, true>(a, h, method, k, batch_size, progress, points)
+               : shape_typed<double, true>(a, h, method, k, batch_size, progress, points);
+  return f32 ? shape_typed<float, false>(a, h, method, k, batch_size, progress, points)
+             : shape_typed<double, false>(a, h, method, k, batch_size, progress, points);
 }
 
 // ---- images ---------------------------------------------------------------------------------------
@@ -173,12 +377,36 @@ NB_MODULE(_geovoronoi, m) {
     }
   });
 
-  nb::class_<diagram_handle>(m, "_DiagramHandle", "Owner of a diagram's memory (private).");
+  nb::class_<diagram_handle>(m, "_DiagramHandle", "Owner of a diagram's memory (private).")
+      .def("_cuts", [](const diagram_handle& h) { return h.cuts; });
+  nb::class_<cut_handle>(m, "_CutHandle", "A set of cut grid edges (private; use geovoronoi.Cut).")
+      .def("__len__", &cut_size)
+      .def("_merge", &cut_merge)
+      .def("_edges", &cut_edges)
+      .def("_equal", &cut_equal)
+      .def_ro("_connectivity", &cut_handle::connectivity);
 
   m.def("_voronoi", &voronoi_entry, nb::arg("field").noconvert(), nb::arg("spacing"), nb::arg("origin"),
         nb::arg("metric"), nb::arg("connectivity"), nb::arg("backend"), nb::arg("threads"),
         nb::arg("seeds").noconvert(), nb::arg("world"), nb::arg("with_parent"),
-        nb::arg("progress").none(), "Private: voronoi() after the Python layer normalised its arguments.");
+        nb::arg("progress").none(), nb::arg("cut").none() = nb::none(),
+        "Private: voronoi() after the Python layer normalised its arguments.");
+  m.def("_update", &update_entry, nb::arg("field").noconvert(), nb::arg("spacing"), nb::arg("origin"),
+        nb::arg("metric"), nb::arg("connectivity"), nb::arg("before"), nb::arg("cut").none(), nb::arg("all").none(),
+        nb::arg("carved").none(), nb::arg("added").none(), nb::arg("restiffened").none(), nb::arg("nodes"),
+        "Private: update() after the Python layer normalised its arguments.");
+  m.def("_update_shape_functions", &shape_update_entry, nb::arg("field").noconvert(), nb::arg("spacing"),
+        nb::arg("origin"), nb::arg("metric"), nb::arg("connectivity"), nb::arg("backend"), nb::arg("threads"),
+        nb::arg("before"), nb::arg("after"), nb::arg("cut").none(), nb::arg("all").none(), nb::arg("carved").none(),
+        nb::arg("added").none(), nb::arg("restiffened").none(), nb::arg("nodes"), nb::arg("method"), nb::arg("k"),
+        nb::arg("batch_size"), nb::arg("progress").none(), nb::arg("old_node").noconvert(),
+        nb::arg("old_weight").noconvert(), nb::arg("old_nodes"), nb::arg("points").none(),
+        "Private: update_shape_functions() after the Python layer normalised its arguments.");
+  m.def("_cut_from_mesh", &cut_from_mesh_entry, nb::arg("vertices").noconvert(), nb::arg("triangles").noconvert(),
+        nb::arg("shape"), nb::arg("spacing"), nb::arg("origin"), nb::arg("orientation"), nb::arg("connectivity"));
+  m.def("_cut_from_polylines", &cut_from_polylines_entry, nb::arg("lines"), nb::arg("shape"), nb::arg("spacing"),
+        nb::arg("origin"), nb::arg("orientation"), nb::arg("connectivity"));
+  m.def("_read_mesh", &read_mesh_entry, nb::arg("path"));
   m.def("_shape_functions", &shape_entry, nb::arg("field").noconvert(), nb::arg("spacing"), nb::arg("origin"),
         nb::arg("metric"), nb::arg("connectivity"), nb::arg("backend"), nb::arg("threads"), nb::arg("diagram"),
         nb::arg("method"), nb::arg("k"), nb::arg("batch_size"), nb::arg("progress").none(),

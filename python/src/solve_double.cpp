@@ -2,5 +2,5 @@
 #include "bindings.hpp"
 
 namespace gvpy {
-GEOVORONOI_PY_DECLARE(double, )
+GEOVORONOI_PY_DECLARE(double, false, )
 }  // namespace gvpy

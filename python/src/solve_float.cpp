@@ -2,5 +2,5 @@
 #include "bindings.hpp"
 
 namespace gvpy {
-GEOVORONOI_PY_DECLARE(float, )
+GEOVORONOI_PY_DECLARE(float, false, )
 }  // namespace gvpy

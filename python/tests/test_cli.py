@@ -145,6 +145,54 @@ def test_rotated_image_like_cli(job, command):
     assert np.array_equal(d.orientation, rot)
 
 
+def _blade(tmp):
+    """An OBJ blade (world x, y, z, as mesh files are) cutting the job's grid partly across x."""
+    path = tmp / "blade.obj"
+    # x = 3 + 0.75 * 6.5 (between voxels 6 and 7), y over the first rows, z over the whole volume
+    x = 3.0 + 0.75 * 6.5
+    path.write_text(f"v {x} -2 -1\nv {x} 6 -1\nv {x} 6 20\nv {x} -2 20\nf 1 2 3\nf 1 3 4\n")
+    return path
+
+
+@pytest.mark.parametrize("command", ["voronoi", "shape-functions"])
+def test_python_cli_cut_equals_the_api(job, command):
+    tmp, field, spacing, origin, seeds = job
+    blade = _blade(tmp)
+    args = [command, "--stiffness", str(tmp / "stiffness.mhd"), "--seeds", str(tmp / "seeds.csv"), "--backend", "seq",
+            "--cut", str(blade), "--cut", str(blade)] + (["--method", "sibson", "--nodes-per-voxel", "3"]
+                                                       if command != "voronoi" else [])
+    r = run_py(args + ["--out", str(tmp / "py")])
+    assert r.returncode == 0, r.stderr
+    cut = gv.cut_from_mesh(*gv.read_mesh(blade), shape=field.shape, spacing=spacing, origin=origin)
+    assert len(cut) > 0
+    d = gv.voronoi(field, seeds, spacing=spacing, origin=origin, backend="seq", cut=cut)
+    assert not np.array_equal(d.label, gv.voronoi(field, seeds, spacing=spacing, origin=origin).label)
+    dist, *_ = gv.read_image(tmp / "py" / "distance.mhd")
+    label, *_ = gv.read_image(tmp / "py" / "label.mhd")
+    assert dist.tobytes() == d.distance.tobytes() and np.array_equal(label, d.label)
+    if command != "voronoi":
+        w = gv.shape_functions(field, d, method="sibson", k=3, backend="seq")
+        assert np.load(tmp / "py" / "weights_data.npy").tobytes() == w.data.tobytes()
+
+
+@needs_cli
+@pytest.mark.parametrize("command", ["voronoi", "shape-functions"])
+def test_python_cli_cut_like_cli(job, command):
+    """--cut MESH: python -m geovoronoi writes the C++ tool's files byte for byte."""
+    tmp, field, spacing, origin, seeds = job
+    blade = _blade(tmp)
+    args = [command, "--stiffness", str(tmp / "stiffness.mhd"), "--seeds", str(tmp / "seeds.csv"), "--backend", "seq",
+            "--cut", str(blade)] + (["--method", "laplace", "--nodes-per-voxel", "2"] if command != "voronoi" else [])
+    run_cli(args + ["--out", str(tmp / "cli")])
+    r = run_py(args + ["--out", str(tmp / "py")])
+    assert r.returncode == 0, r.stderr
+    names = ["distance.mhd", "distance.raw", "label.mhd", "label.raw", "voronoi.vti"]
+    if command != "voronoi":
+        names += ["indices.mhd", "weights.mhd", "weights.raw", "weights_data.npy"]
+    for name in names:
+        assert (tmp / "py" / name).read_bytes() == (tmp / "cli" / name).read_bytes(), name
+
+
 def test_python_cli_bad_input(job):
     tmp, *_ = job
     base = ["voronoi", "--stiffness", str(tmp / "stiffness.mhd"), "--out", str(tmp / "o")]
