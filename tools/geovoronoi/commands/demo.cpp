@@ -43,6 +43,40 @@ void write_seeds(const std::string& path, const std::vector<gv::coord<3>>& seeds
   if (!s) throw gio::io_error(path, "write error");
 }
 
+/// Node @p n's weight at the points of @p w (0 where a point's row names other nodes only); NaN,
+/// drawn as outside, off the points and where a row is empty.
+gv::image<float, 3> weight_at_points(const gv::grid<3>& g, const gv::point_weights<float>& w, gv::label_t n) {
+  gv::image<float, 3> one(g, std::numeric_limits<float>::quiet_NaN());
+  const std::size_t k = std::size_t(w.k);
+  for (std::size_t r = 0; r < w.points; ++r)
+    for (std::size_t s = 0; s < k; ++s) {
+      if (w.node[r * k + s] < 0) continue;
+      const index_t v = w.voxel[r];
+      if (std::isnan(one[v])) one[v] = 0.0f;
+      if (w.node[r * k + s] == n) one[v] = w.weight[r * k + s];
+    }
+  return one;
+}
+
+/// The node whose weight at the points changes most from @p before to @p after (sum of the
+/// absolute differences; lowest index on a tie).
+gv::label_t most_changed_node(const gv::point_weights<float>& before, const gv::point_weights<float>& after) {
+  std::vector<double> change(after.nodes, 0.0);
+  const std::size_t k = std::size_t(after.k);
+  for (std::size_t r = 0; r < after.points; ++r) {
+    std::vector<double> d(after.nodes, 0.0);
+    for (std::size_t s = 0; s < k; ++s) {
+      if (before.node[r * k + s] >= 0) d[std::size_t(before.node[r * k + s])] -= double(before.weight[r * k + s]);
+      if (after.node[r * k + s] >= 0) d[std::size_t(after.node[r * k + s])] += double(after.weight[r * k + s]);
+    }
+    for (std::size_t n = 0; n < d.size(); ++n) change[n] += std::abs(d[n]);
+  }
+  gv::label_t best = 0;
+  for (std::size_t n = 1; n < change.size(); ++n)
+    if (change[n] > change[std::size_t(best)]) best = gv::label_t(n);
+  return best;
+}
+
 int run(const std::vector<std::string>& args) {
   const arguments a(args, {"--out", "--backend", "--threads"}, {});
   const std::string dir = a.get("--out", "demo-out");
@@ -108,27 +142,20 @@ int run(const std::vector<std::string>& args) {
   point_spec slice;
   for (index_t y = 0; y < g.extent(1); ++y)
     for (index_t x = 0; x < g.extent(0); ++x) slice.voxels.push_back({x, y, g.extent(2) / 2});
+  // kept for the cut step, which updates it
+  const auto w_slice = solver.in_float.shape_at(p, d, slice, opt);
   {
-    const auto w = solver.in_float.shape_at(p, d, slice, opt);
+    const auto& w = w_slice;
     std::printf("  %-16s %7.2f s (%zu voxels: the slice z=%lld at full resolution)\n", method_name(opt.method),
                 bar.seconds() - t0, slice.voxels.size(), (long long)(g.extent(2) / 2));
     std::fflush(stdout);
     const std::string sub = out.subdir(method_name(opt.method));
     write_shape_at(sub, w);
     write_seeds(sub + "/points.csv", slice.voxels, "stiffness.mhd (the points of weights_at_*; --at of shape-functions)");
-    // node 0's weight on the slice; NaN (drawn as outside) elsewhere and where a voxel has no weight
-    gv::image<float, 3> one(g, std::numeric_limits<float>::quiet_NaN());
-    const std::size_t k = std::size_t(w.k);
-    for (std::size_t r = 0; r < w.points; ++r)
-      for (std::size_t s = 0; s < k; ++s) {
-        if (w.node[r * k + s] < 0) continue;
-        const index_t v = w.voxel[r];
-        if (std::isnan(one[v])) one[v] = 0.0f;
-        if (w.node[r * k + s] == 0) one[v] = w.weight[r * k + s];
-      }
+    // node 0's weight on the slice
     auto o = pc.options("SIBSON SHAPE FUNCTION, FULL RESOLUTION, THIS SLICE ONLY");
     o.xy_only = true;
-    gio::write_png(sub + "/weight_node0.png", gio::weight_picture(one, 0, d.seeds, o));
+    gio::write_png(sub + "/weight_node0.png", gio::weight_picture(weight_at_points(g, w, 0), 0, d.seeds, o));
   }
   // the cut: a planar 30 x 20 mm blade along the top of the bone's bar, right of node 0 (the plane
   // y = 49.5 mm, x 70..100, z 6..26). The bone carries node 0's cell across the steak; the meat above
@@ -152,6 +179,15 @@ int run(const std::vector<std::string>& args) {
   t0 = bar.seconds();
   require_equal(dc, solver.in_float.voronoi(p_cut));
   const double t_full = bar.seconds() - t0;
+  // Sibson on the slice after the cut: the rows before, updated (only those the cut can reach are
+  // recomputed; bit for bit a full recompute, which tests/ and `geovoronoi cut --method` check)
+  bar.update("cut: sibson update", 0.0);
+  t0 = bar.seconds();
+  auto w_cut = w_slice;
+  gv::change<3> blade_change;
+  blade_change.cut = blade_set;
+  const auto st = seq_shape_update_at(p_cut, d, dc, w_cut, blade_change, opt);
+  const double t_weights = bar.seconds() - t0;
   {
     const std::string sub = out.subdir("cut");
     std::ofstream obj(sub + "/blade.obj");
@@ -163,6 +199,22 @@ int run(const std::vector<std::string>& args) {
     const std::size_t changed = write_change(sub, d, dc, field, field, &blade_set, none, none, pc);
     std::printf("  cut (update)     %7.3f s (%zu cut edges, %zu voxels changed; full recompute %.2f s, identical)\n",
                 t_update, blade_set.size(), changed, t_full);
+    // the node whose Sibson weight the cut changes most, before | after, on the slice (weights 0..1)
+    const gv::label_t n = most_changed_node(w_slice, w_cut);
+    auto left = pc.options("SIBSON WEIGHT OF NODE " + std::to_string(n) + " BEFORE THE CUT");
+    auto right = pc.options("AFTER: " + std::to_string(st.changed) + " OF THE SLICE'S ROWS CHANGED (" +
+                            std::to_string(st.recomputed) + " RECOMPUTED)");
+    left.title = {left.title[0].substr(0, left.title[0].find(" - "))};
+    right.title = {right.title[0].substr(0, right.title[0].find(" - "))};
+    left.xy_only = right.xy_only = true;
+    left.legend = false;
+    gio::write_png(sub + "/cut_weights.png",
+                   gio::hstack(gio::weight_picture(weight_at_points(g, w_slice, n), n, d.seeds, left),
+                               gio::weight_picture(weight_at_points(g, w_cut, n), n, dc.seeds, right),
+                               gio::picture_background));
+    std::printf("  cut (sibson)     %7.3f s (update on the slice: %zu of %zu rows recomputed, %zu changed; node %d "
+                "pictured)\n",
+                t_weights, st.recomputed, st.rows, st.changed, int(n));
     std::fflush(stdout);
   }
   bar.update("writing");
@@ -171,8 +223,8 @@ int run(const std::vector<std::string>& args) {
   summary("demo", g, seeds.size(), backend_name, bar.seconds(), dir);
   std::printf("pictures: %s/labels_compare.png (uniform | min_stiffness), %s/labels.png, %s/labels_uniform.png,\n"
               "          %s/distance.png, %s/distance-ratio/weight_node0.png, %s/sibson/weight_node0.png,\n"
-              "          %s/cut/cut.png (before | after the cut)\n",
-              dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str());
+              "          %s/cut/cut.png (before | after the cut), %s/cut/cut_weights.png (a Sibson weight before | after)\n",
+              dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str());
   return 0;
 }
 
@@ -185,7 +237,8 @@ const command demo_command = {
     "Builds the T-bone steak phantom (128 x 96 x 32 voxels of 1 mm: meat, fat, bone) with 12 nodes on\n"
     "its middle slice, and computes its Voronoi diagram under min_stiffness and uniform, Distance Ratio\n"
     "weights on every voxel, Sibson weights at full resolution on the middle slice (z = 16), and the\n"
-    "diagram after a cut beside the bone (incremental update, checked against a full recompute).\n"
+    "diagram after a cut beside the bone (incremental update, checked against a full recompute) with\n"
+    "the Sibson weights of the middle slice updated for it.\n"
     "\n"
     "options:\n"
     "  --out DIR           output folder, replaced as a whole when the run succeeded (default: demo-out)\n"
@@ -205,7 +258,9 @@ const command demo_command = {
     "                      (points x nodes CSR), weights_at.csv, weight_node0.png (node 0's weight)\n"
     "  cut/                blade.obj (the plane y = 49.5 mm, x 70..100, z 6..26: along the top of the\n"
     "                      bone's bar), changed.mhd and cut.png (cells before | after the cut) as\n"
-    "                      `geovoronoi cut` writes them\n"
+    "                      `geovoronoi cut` writes them, cut_weights.png (the Sibson weight on the\n"
+    "                      slice z = 16 of the node the cut changes most, before | after; the weights\n"
+    "                      after come from update_shape_functions_at_in_place)\n"
     "\n"
     "example:\n"
     "  geovoronoi demo --out demo-out\n",
