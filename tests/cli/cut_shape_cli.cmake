@@ -91,7 +91,7 @@ string(REPEAT "${row}\n" 10 rows)
 string(REPEAT "${row_carved}\n" 10 rows_carved)
 file(WRITE ${WORK}/slab.pgm "P2\n12 10\n255\n${rows}")
 file(WRITE ${WORK}/slab_carved.pgm "P2\n12 10\n255\n${rows_carved}")
-file(WRITE ${WORK}/seeds.csv "1,5,1\n10,5,1\n6,1,1\n")
+file(WRITE ${WORK}/seeds.csv "1,5,1\n10,5,1\n8,1,1\n")
 file(WRITE ${WORK}/blade.obj "v 3.5 2 -5\nv 3.5 8 -5\nv 3.5 8 5\nv 3.5 2 5\nf 1 2 3 4\n")
 set(S --stiffness slab.pgm --extrude 3 --seeds seeds.csv)
 # voxel (4,5,1), just behind the blade from seed 0: its distance and so its weights change

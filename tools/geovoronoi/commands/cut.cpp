@@ -282,7 +282,7 @@ const command cut_command = {
     "\n"
     "example:\n"
     "  geovoronoi cut --stiffness demo-out/stiffness.mhd --seeds demo-out/seeds.csv --cut demo-out/cut/blade.obj\n"
-    "                 --out cut-out\n",
+    "                 --method distance-ratio --out cut-out\n",
     run};
 
 }  // namespace gvcli
