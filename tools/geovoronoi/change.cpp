@@ -67,6 +67,29 @@ std::size_t write_change(const std::string& dir, const gv::diagram<T, 3>& before
   return n_changed;
 }
 
+template <class T>
+std::size_t write_changed_weights(const std::string& dir, const gv::shape_weights<T, 3>& before,
+                                  const gv::shape_weights<T, 3>& after) {
+  const auto& g = after.geometry;
+  const std::size_t k = std::size_t(after.k);
+  if (before.k != after.k || before.node.size() != after.node.size())
+    throw std::logic_error("geovoronoi: write_changed_weights: the weights before and after differ in K or size");
+  gv::image<std::uint8_t, 3> changed(g, std::uint8_t(0));
+  std::size_t n_changed = 0;
+  for (index_t v = 0; v < g.size(); ++v)
+    for (std::size_t s = std::size_t(v) * k; s < std::size_t(v + 1) * k; ++s)
+      if (before.node[s] != after.node[s] || std::memcmp(&before.weight[s], &after.weight[s], sizeof(T)) != 0) {
+        changed[v] = 1, ++n_changed;
+        break;
+      }
+  gio::write_metaimage(dir + "/changed_weights.mhd", changed);
+  return n_changed;
+}
+
+template std::size_t write_changed_weights(const std::string&, const gv::shape_weights<float, 3>&,
+                                           const gv::shape_weights<float, 3>&);
+template std::size_t write_changed_weights(const std::string&, const gv::shape_weights<double, 3>&,
+                                           const gv::shape_weights<double, 3>&);
 template std::size_t write_change(const std::string&, const gv::diagram<float, 3>&, const gv::diagram<float, 3>&,
                                   const gv::image<float, 3>&, const gv::image<float, 3>&, const gv::cut_set<3>*,
                                   const gv::coord<3>&, const gv::coord<3>&, const picture_context&);

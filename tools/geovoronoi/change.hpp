@@ -1,7 +1,8 @@
 #pragma once
 // What `cut` and `demo` share about a change to a solved problem (cut surfaces, carved voxels): the
-// library's incremental update on a problem_spec, the bit-for-bit check against a full recompute,
-// and the change's outputs (changed.mhd, cut.png; change.cpp).
+// library's incremental updates (diagram and shape functions) on a problem_spec, the bit-for-bit
+// checks against a full recompute, and the change's outputs (changed.mhd, cut.png,
+// changed_weights.mhd; change.cpp).
 
 #include "output_dir.hpp"
 #include "outputs.hpp"
@@ -61,6 +62,33 @@ void require_equal(const gv::diagram<T, 3>& upd, const gv::diagram<T, 3>& full) 
                           what + " " + buf + "; please report this with the inputs");
   }
 }
+
+/// The shape-function update's promise: @p upd equals the full recompute @p full bit for bit (node and
+/// weight of every slot); else runtime_failure (exit 1), a bug in the library.
+template <class T>
+void require_equal(const gv::shape_weights<T, 3>& upd, const gv::shape_weights<T, 3>& full) {
+  if (upd.k != full.k || upd.nodes != full.nodes || upd.node.size() != full.node.size() ||
+      upd.weight.size() != full.weight.size())
+    throw runtime_failure("internal error: the updated shape functions differ in shape from the full recompute; "
+                          "please report this with the inputs");
+  const std::size_t k = std::size_t(full.k);
+  for (std::size_t i = 0; i < full.node.size(); ++i) {
+    if (upd.node[i] == full.node[i] && std::memcmp(&upd.weight[i], &full.weight[i], sizeof(T)) == 0) continue;
+    const auto c = full.geometry.coords(gv::index_t(i / k));
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "at voxel (%lld,%lld,%lld) slot %zu (node %lld vs %lld, weight %.9g vs %.9g)",
+                  (long long)c[0], (long long)c[1], (long long)c[2], i % k, (long long)upd.node[i],
+                  (long long)full.node[i], double(upd.weight[i]), double(full.weight[i]));
+    throw runtime_failure(std::string("internal error: the updated shape functions differ from the full recompute ") +
+                          buf + "; please report this with the inputs");
+  }
+}
+
+/// changed_weights.mhd in @p dir: MET_UCHAR, 1 where any slot of the voxel's row (node index or weight
+/// bits) differs between @p before and @p after, else 0. Returns the number of such voxels.
+template <class T>
+std::size_t write_changed_weights(const std::string& dir, const gv::shape_weights<T, 3>& before,
+                                  const gv::shape_weights<T, 3>& after);
 
 /// A change's pictures and mask, written into @p dir: changed.mhd (MET_UCHAR, 1 where the distance or
 /// the label differs between @p before and @p after) and cut.png (the cells before | after on the

@@ -220,6 +220,29 @@ job load_job(const arguments& a) {
   return j;
 }
 
+std::set<std::string> shape_arg_options() { return {"--method", "--nodes-per-voxel", "--picture-node"}; }
+
+gv::shape_method parse_method(const std::string& m) {
+  if (m == "distance-ratio" || m == "distance_ratio") return gv::shape_method::distance_ratio;
+  if (m == "sibson") return gv::shape_method::sibson;
+  if (m == "laplace") return gv::shape_method::laplace;
+  throw usage_error("unknown method '" + m + "' (distance-ratio, sibson or laplace)");
+}
+
+shape_args parse_shape_args(const arguments& a) {
+  shape_args s;
+  s.method = parse_method(a.require("--method"));
+  s.k = int(a.integer("--nodes-per-voxel", 4, 1, 64));
+  s.picture_node = int(a.integer("--picture-node", 0, 0, 1 << 30));
+  return s;
+}
+
+void check_picture_node(const shape_args& s, const job& j) {
+  if (std::size_t(s.picture_node) >= j.seeds.size())
+    throw usage_error("--picture-node " + std::to_string(s.picture_node) +
+                      ": must be less than the number of nodes (" + std::to_string(j.seeds.size()) + ")");
+}
+
 template <class T>
 gv::diagram<T, 3> solve_diagram(const job& j, const std::function<bool(double)>& progress) {
   auto s = j.spec<T>();

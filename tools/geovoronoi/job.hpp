@@ -64,6 +64,28 @@ std::set<std::string> solve_repeatable();
 
 job load_job(const arguments& a);
 
+/// What `shape-functions` and `cut --method` read about the shape functions.
+struct shape_args {
+  gv::shape_method method = gv::shape_method::distance_ratio;
+  int k = 4;             ///< `--nodes-per-voxel K`, 1..64 (default 4)
+  int picture_node = 0;  ///< `--picture-node N` (default 0), checked against the nodes by check_picture_node()
+  /// The library's options for them (progress and threads left to the caller).
+  gv::shape_options options() const {
+    gv::shape_options o;
+    o.method = method;
+    o.max_nodes_per_voxel = k;
+    return o;
+  }
+};
+/// The options of shape_args: --method, --nodes-per-voxel, --picture-node.
+std::set<std::string> shape_arg_options();
+/// `--method M`: distance-ratio (or distance_ratio), sibson or laplace; else a usage_error.
+gv::shape_method parse_method(const std::string& m);
+/// --method (required), --nodes-per-voxel and --picture-node of @p a; a usage_error when one is bad.
+shape_args parse_shape_args(const arguments& a);
+/// A usage_error when --picture-node names no node of @p j.
+void check_picture_node(const shape_args& s, const job& j);
+
 /// Calls f(T{}) with T = double when @p j runs in double, else float.
 template <class F>
 decltype(auto) with_precision(const job& j, F&& f) {

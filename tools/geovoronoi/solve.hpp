@@ -11,6 +11,7 @@
 
 #include <geovoronoi.hpp>
 #include <geovoronoi/shape_functions.hpp>
+#include <geovoronoi/shape_update.hpp>
 
 #include "usage_error.hpp"
 
@@ -136,6 +137,32 @@ gv::point_weights<T> solve_shape_at(const Policy& policy, const problem_spec<T>&
   return w;
 }
 
+/// The shape functions @p w of the problem before a change (computed on @p d_before) updated in place
+/// into those of @p s, the problem after it, whose diagram is @p d_after; @p c is the change.
+/// update_shape_functions_in_place() with @p policy (shape_update.hpp).
+template <class Policy, class T>
+gv::shape_update_stats update_shape(const Policy& policy, const problem_spec<T>& s, const gv::diagram<T, 3>& d_before,
+                                    const gv::diagram<T, 3>& d_after, gv::shape_weights<T, 3>& w,
+                                    const gv::change<3>& c, gv::shape_options opt) {
+  gv::shape_update_stats st;
+  opt.threads = s.threads;
+  with_problem(s, [&](const auto& p) { st = gv::update_shape_functions_in_place(policy, p, d_before, d_after, w, c, opt); });
+  return st;
+}
+
+/// The same for weights at points (update_shape_functions_at_in_place()).
+template <class Policy, class T>
+gv::shape_update_stats update_shape_at(const Policy& policy, const problem_spec<T>& s, const gv::diagram<T, 3>& d_before,
+                                       const gv::diagram<T, 3>& d_after, gv::point_weights<T>& w,
+                                       const gv::change<3>& c, gv::shape_options opt) {
+  gv::shape_update_stats st;
+  opt.threads = s.threads;
+  with_problem(s, [&](const auto& p) {
+    st = gv::update_shape_functions_at_in_place(policy, p, d_before, d_after, w, c, opt);
+  });
+  return st;
+}
+
 /// One backend's entry points for one distance type (the backend table holds one set per type).
 template <class T>
 struct solver_fns {
@@ -156,6 +183,17 @@ gv::shape_weights<T, 3> seq_shape(const problem_spec<T>& s, const gv::diagram<T,
 template <class T>
 gv::point_weights<T> seq_shape_at(const problem_spec<T>& s, const gv::diagram<T, 3>& d, const point_spec& at,
                                   const gv::shape_options& opt);
+/// The shape functions' update after a change (update_shape(), update_shape_at()) with gv::seq: like
+/// the diagram's update, one host algorithm for every backend (`cut --method`, `demo`). Here, beside
+/// seq_shape(), so that the row computations they share are compiled once.
+template <class T>
+gv::shape_update_stats seq_shape_update(const problem_spec<T>& s, const gv::diagram<T, 3>& d_before,
+                                        const gv::diagram<T, 3>& d_after, gv::shape_weights<T, 3>& w,
+                                        const gv::change<3>& c, const gv::shape_options& opt);
+template <class T>
+gv::shape_update_stats seq_shape_update_at(const problem_spec<T>& s, const gv::diagram<T, 3>& d_before,
+                                           const gv::diagram<T, 3>& d_after, gv::point_weights<T>& w,
+                                           const gv::change<3>& c, const gv::shape_options& opt);
 template <class T>
 gv::diagram<T, 3> thrust_voronoi(const problem_spec<T>& s);
 template <class T>

@@ -1,6 +1,7 @@
 // geovoronoi cut: the diagram before and after a change (cut surfaces, a carved box); the one after
 // comes from the library's incremental update (update.hpp) and is checked, bit for bit, against a
-// full recompute of the changed problem, and both times are printed.
+// full recompute of the changed problem, and both times are printed. With --method, the same for the
+// shape functions (shape_update.hpp).
 #include "../change.hpp"
 #include "../command.hpp"
 #include "../job.hpp"
@@ -91,8 +92,54 @@ double since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+/// The shape functions before and after the change (cut --method): the ones after from the library's
+/// update, checked against a full recompute on the backend; writes before/, after/ and
+/// changed_weights.mhd and prints both times.
 template <class T>
-void cut_in(const job& j, const carve_box* carve, output_dir& out, progress_bar& bar) {
+void cut_shape(const job& j, const shape_args& sa, const problem_spec<T>& before_spec, const problem_spec<T>& after_spec,
+               const gv::diagram<T, 3>& before, const gv::diagram<T, 3>& after, const gv::change<3>& change,
+               output_dir& out, progress_bar& bar) {
+  const char* method = method_name(sa.method);
+  const auto& fns = j.solver->fns<T>();
+  gv::shape_options opt = sa.options();
+  opt.progress = [&](double f) {
+    bar.set_fraction(f);
+    return true;
+  };
+  bar.update(std::string(method) + " before", 0.0);
+  const auto w_before = fns.shape(before_spec, before, opt);
+  bar.update(std::string(method) + " full recompute", 0.0);
+  auto t0 = std::chrono::steady_clock::now();
+  const auto w_full = fns.shape(after_spec, after, opt);
+  const double t_full = since(t0);
+  bar.update(std::string(method) + " update", 0.0);
+  auto w_after = w_before;
+  gv::shape_update_stats st;
+  t0 = std::chrono::steady_clock::now();
+  try {
+    st = seq_shape_update(after_spec, before, after, w_after, change, opt);
+  } catch (const std::invalid_argument& e) {  // the inputs were checked: a bug in the tool or the library
+    throw runtime_failure(std::string("internal error in the shape functions' update: ") + e.what());
+  }
+  const double t_update = since(t0);
+  require_equal(w_after, w_full);
+
+  bar.update("writing");
+  const auto pc = j.pictures();
+  write_shape(out.subdir("before"), w_before, before, sa.picture_node, pc, method);
+  write_shape(out.subdir("after"), w_after, after, sa.picture_node, pc, method);
+  const std::size_t n_changed = write_changed_weights(out.subdir("."), w_before, w_after);
+  std::printf("  weights update     %9.4f s  (%s, library update_shape_functions(), host; %zu of %zu rows recomputed%s, "
+              "%zu changed)\n",
+              t_update, method, st.recomputed, st.rows, st.full ? " (all: no smaller set is proven)" : "", n_changed);
+  std::printf("  weights recompute  %9.4f s  (%s, shape_functions() on backend %s)  %.1fx; identical bit for bit "
+              "(node and weight of every slot)\n",
+              t_full, method, j.solver->name, t_update > 0 ? t_full / t_update : 0.0);
+  std::fflush(stdout);
+}
+
+template <class T>
+void cut_in(const job& j, const carve_box* carve, const shape_args* shape, output_dir& out, progress_bar& bar) {
   const auto& field = j.field_in<T>();
   gv::image<T, 3> carved_field;
   if (carve) {  // -1 is outside under every metric's domain rule (stiffness > 0, cost >= 0)
@@ -137,14 +184,29 @@ void cut_in(const job& j, const carve_box* carve, output_dir& out, progress_bar&
               "(distance, label, parent)\n",
               t_full, j.solver->name, t_update > 0 ? t_full / t_update : 0.0);
   std::fflush(stdout);
+  if (shape) {
+    gv::change<3> change;
+    if (j.cut_set) change.cut = *j.cut_set;
+    if (carve) change.carved = carve->voxels;
+    cut_shape(j, *shape, before_spec, after_spec, before, upd, change, out, bar);
+  }
 }
 
 int run(const std::vector<std::string>& args) {
-  const arguments a(args, solve_options({"--carve"}), solve_flags(), solve_repeatable());
+  auto names = shape_arg_options();
+  names.insert("--carve");
+  const arguments a(args, solve_options(names), solve_flags(), solve_repeatable());
   if (!a.has("--cut") && !a.has("--carve")) throw usage_error("cut needs a change: --cut MESH and/or --carve BOX");
+  shape_args shape;
+  if (a.has("--method"))
+    shape = parse_shape_args(a);
+  else if (a.has("--nodes-per-voxel") || a.has("--picture-node"))
+    throw usage_error(std::string(a.has("--nodes-per-voxel") ? "--nodes-per-voxel" : "--picture-node") +
+                      " needs --method (the shape functions before and after the change)");
   progress_bar bar("geovoronoi cut");
   bar.update("reading");
   const job j = load_job(a);
+  if (a.has("--method")) check_picture_node(shape, j);
   carve_box carve;
   if (a.has("--carve")) {
     carve = parse_carve(a.get("--carve"), a.has("--world"), j.geometry());
@@ -159,10 +221,11 @@ int run(const std::vector<std::string>& args) {
   inputs.insert(inputs.end(), j.cut_paths.begin(), j.cut_paths.end());
   output_dir out(j.out, inputs, "geovoronoi cut");
   const carve_box* c = a.has("--carve") ? &carve : nullptr;
+  const shape_args* sa = a.has("--method") ? &shape : nullptr;
   if (j.in_double)
-    cut_in<double>(j, c, out, bar);
+    cut_in<double>(j, c, sa, out, bar);
   else
-    cut_in<float>(j, c, out, bar);
+    cut_in<float>(j, c, sa, out, bar);
   out.commit();
   bar.finish();
   summary("cut", j.geometry(), j.seeds.size(), j.solver->name, bar.seconds(), j.out);
@@ -178,7 +241,10 @@ const command cut_command = {
     "Solves the Voronoi diagram, applies a change (cut surfaces and/or a carved box), updates the\n"
     "diagram incrementally (only the voxels whose shortest path crossed the change are re-solved),\n"
     "recomputes the changed problem from scratch on --backend, checks that both agree bit for bit\n"
-    "(distance, label and parent; exit 1 if not) and prints both times.\n"
+    "(distance, label and parent; exit 1 if not) and prints both times. With --method, the same for\n"
+    "the shape functions: those after the change come from the library's update (only the rows the\n"
+    "change can reach are recomputed), are checked bit for bit against shape_functions() on the\n"
+    "changed problem, and both times are printed.\n"
     "\n"
     "options:\n"
     "  --stiffness FILE    the field: .mhd/.mha (MetaImage), .npy, or .pgm/.ppm (required)\n"
@@ -198,6 +264,9 @@ const command cut_command = {
     "  --world             seeds and --carve are physical x,y,z coordinates (default: voxel indices)\n"
     "  --extrude N         repeat a .pgm/.ppm picture into N slices along z (default: 1)\n"
     "  --precision P       float, double or auto (default: float), as for voronoi\n"
+    "  --method M          also the shape functions, before and after: distance-ratio, sibson or laplace\n"
+    "  --nodes-per-voxel K with --method: the most nodes a voxel keeps, 1..64 (default: 4)\n"
+    "  --picture-node N    with --method: the node whose weight weight_node<N>.png shows (default: 0)\n"
     "  --help              this text\n"
     "\n"
     "writes, in DIR:\n"
@@ -206,11 +275,14 @@ const command cut_command = {
     "  changed.mhd/.raw    1 where the distance or the label changed, else 0 (MET_UCHAR)\n"
     "  cut.png             cells before | after on the slices through the middle of the change, the\n"
     "                      cut drawn in red, changed voxels outlined in white\n"
+    "  with --method, also the files of `geovoronoi shape-functions` in before/ and after/, and\n"
+    "  changed_weights.mhd/.raw\n"
+    "                      1 where any slot of the voxel's weights (node or weight) changed, else 0\n"
     "  .geovoronoi-output  the marker that lets the next run with this --out replace the folder\n"
     "\n"
     "example:\n"
     "  geovoronoi cut --stiffness demo-out/stiffness.mhd --seeds demo-out/seeds.csv --cut demo-out/cut/blade.obj\n"
-    "                 --out cut-out\n",
+    "                 --method distance-ratio --out cut-out\n",
     run};
 
 }  // namespace gvcli

@@ -13,6 +13,7 @@
 #include <geovoronoi/io/png.hpp>
 #include <geovoronoi/phantom.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -41,6 +42,46 @@ void write_seeds(const std::string& path, const std::vector<gv::coord<3>>& seeds
   s << "# i,j,k voxel indices of the demo's nodes (x, y, z) in " << volume << "; line n is node n - 1\n";
   for (const auto& c : seeds) s << c[0] << "," << c[1] << "," << c[2] << "\n";
   if (!s) throw gio::io_error(path, "write error");
+}
+
+/// The voxel of row @p r of weights at points, or of weights on the whole grid.
+index_t row_voxel(const gv::point_weights<float>& w, std::size_t r) { return w.voxel[r]; }
+index_t row_voxel(const gv::shape_weights<float, 3>&, std::size_t r) { return index_t(r); }
+
+/// Node @p n's weight in the rows of @p w (0 where a row names other nodes only); NaN, drawn as
+/// outside, where no row is or a row is empty.
+template <class W>
+gv::image<float, 3> node_weight(const gv::grid<3>& g, const W& w, gv::label_t n) {
+  gv::image<float, 3> one(g, std::numeric_limits<float>::quiet_NaN());
+  const std::size_t k = std::size_t(w.k);
+  for (std::size_t r = 0; r < w.node.size() / k; ++r)
+    for (std::size_t s = 0; s < k; ++s) {
+      if (w.node[r * k + s] < 0) continue;
+      const index_t v = row_voxel(w, r);
+      if (std::isnan(one[v])) one[v] = 0.0f;
+      if (w.node[r * k + s] == n) one[v] = w.weight[r * k + s];
+    }
+  return one;
+}
+
+/// The node whose weight changes most from @p before to @p after (the sum over the rows of the
+/// absolute differences; lowest index on a tie).
+template <class W>
+gv::label_t most_changed_node(const W& before, const W& after) {
+  std::vector<double> change(after.nodes, 0.0), d(after.nodes, 0.0);
+  const std::size_t k = std::size_t(after.k);
+  for (std::size_t r = 0; r < after.node.size() / k; ++r) {
+    std::fill(d.begin(), d.end(), 0.0);
+    for (std::size_t s = 0; s < k; ++s) {
+      if (before.node[r * k + s] >= 0) d[std::size_t(before.node[r * k + s])] -= double(before.weight[r * k + s]);
+      if (after.node[r * k + s] >= 0) d[std::size_t(after.node[r * k + s])] += double(after.weight[r * k + s]);
+    }
+    for (std::size_t m = 0; m < d.size(); ++m) change[m] += std::abs(d[m]);
+  }
+  gv::label_t best = 0;
+  for (std::size_t m = 1; m < change.size(); ++m)
+    if (change[m] > change[std::size_t(best)]) best = gv::label_t(m);
+  return best;
 }
 
 int run(const std::vector<std::string>& args) {
@@ -91,12 +132,12 @@ int run(const std::vector<std::string>& args) {
   opt.method = gv::shape_method::distance_ratio;
   opt.max_nodes_per_voxel = 4;
   opt.progress = [&](double x) { bar.set_fraction(x); return true; };
-  {
-    const auto w = solver.in_float.shape(p, d, opt);
-    std::printf("  %-16s %7.2f s (%lld voxels)\n", method_name(opt.method), bar.seconds() - t0, (long long)g.size());
-    std::fflush(stdout);
-    write_shape(out.subdir(method_name(opt.method)), w, d, 0, pc, method_name(opt.method));
-  }
+  const gv::shape_options opt_dr = opt;
+  const auto w_dr = solver.in_float.shape(p, d, opt);  // kept for the cut step, which updates it
+  const double t_dr = bar.seconds() - t0;
+  std::printf("  %-16s %7.2f s (%lld voxels)\n", method_name(opt.method), t_dr, (long long)g.size());
+  std::fflush(stdout);
+  write_shape(out.subdir(method_name(opt.method)), w_dr, d, 0, pc, method_name(opt.method));
   // Sibson at full resolution on the pictured slice only: every voxel is a query whose new cell is
   // searched (cost ~ voxels^2 / nodes, and the steak's stiffness varies, so no shortcut applies), so
   // all 393k voxels take minutes on a CPU; the XY slice z = nz/2 (128 x 96 voxels, where the nodes
@@ -116,19 +157,10 @@ int run(const std::vector<std::string>& args) {
     const std::string sub = out.subdir(method_name(opt.method));
     write_shape_at(sub, w);
     write_seeds(sub + "/points.csv", slice.voxels, "stiffness.mhd (the points of weights_at_*; --at of shape-functions)");
-    // node 0's weight on the slice; NaN (drawn as outside) elsewhere and where a voxel has no weight
-    gv::image<float, 3> one(g, std::numeric_limits<float>::quiet_NaN());
-    const std::size_t k = std::size_t(w.k);
-    for (std::size_t r = 0; r < w.points; ++r)
-      for (std::size_t s = 0; s < k; ++s) {
-        if (w.node[r * k + s] < 0) continue;
-        const index_t v = w.voxel[r];
-        if (std::isnan(one[v])) one[v] = 0.0f;
-        if (w.node[r * k + s] == 0) one[v] = w.weight[r * k + s];
-      }
+    // node 0's weight on the slice
     auto o = pc.options("SIBSON SHAPE FUNCTION, FULL RESOLUTION, THIS SLICE ONLY");
     o.xy_only = true;
-    gio::write_png(sub + "/weight_node0.png", gio::weight_picture(one, 0, d.seeds, o));
+    gio::write_png(sub + "/weight_node0.png", gio::weight_picture(node_weight(g, w, 0), 0, d.seeds, o));
   }
   // the cut: a planar 30 x 20 mm blade along the top of the bone's bar, right of node 0 (the plane
   // y = 49.5 mm, x 70..100, z 6..26). The bone carries node 0's cell across the steak; the meat above
@@ -152,6 +184,15 @@ int run(const std::vector<std::string>& args) {
   t0 = bar.seconds();
   require_equal(dc, solver.in_float.voronoi(p_cut));
   const double t_full = bar.seconds() - t0;
+  // Distance Ratio after the cut: the weights before, updated (only the rows the cut can reach are
+  // recomputed; bit for bit a full recompute, which tests/ and `geovoronoi cut --method` check)
+  bar.update("cut: distance-ratio update", 0.0);
+  t0 = bar.seconds();
+  auto w_cut = w_dr;
+  gv::change<3> blade_change;
+  blade_change.cut = blade_set;
+  const auto st = seq_shape_update(p_cut, d, dc, w_cut, blade_change, opt_dr);
+  const double t_weights = bar.seconds() - t0;
   {
     const std::string sub = out.subdir("cut");
     std::ofstream obj(sub + "/blade.obj");
@@ -163,6 +204,22 @@ int run(const std::vector<std::string>& args) {
     const std::size_t changed = write_change(sub, d, dc, field, field, &blade_set, none, none, pc);
     std::printf("  cut (update)     %7.3f s (%zu cut edges, %zu voxels changed; full recompute %.2f s, identical)\n",
                 t_update, blade_set.size(), changed, t_full);
+    // the node whose Distance Ratio weight the cut changes most, before | after, on the slice through
+    // the middle of the blade (z = 16; weights 0..1)
+    const gv::label_t n = most_changed_node(w_dr, w_cut);
+    auto was = pc.options("DISTANCE RATIO WEIGHT OF NODE " + std::to_string(n) + " BEFORE THE CUT");
+    auto now = pc.options("AFTER: " + std::to_string(st.changed) + " VOXELS' WEIGHTS CHANGED (UPDATED)");
+    was.title = {was.title[0].substr(0, was.title[0].find(" - "))};
+    now.title = {now.title[0].substr(0, now.title[0].find(" - "))};
+    was.xy_only = now.xy_only = true;
+    was.legend = false;
+    gio::write_png(sub + "/cut_weights.png",
+                   gio::hstack(gio::weight_picture(node_weight(g, w_dr, n), n, d.seeds, was),
+                               gio::weight_picture(node_weight(g, w_cut, n), n, dc.seeds, now),
+                               gio::picture_background));
+    std::printf("  cut (weights)    %7.3f s (distance-ratio update: %zu of %zu rows recomputed, %zu changed; the full "
+                "grid took %.2f s above; node %d pictured)\n",
+                t_weights, st.recomputed, st.rows, st.changed, t_dr, int(n));
     std::fflush(stdout);
   }
   bar.update("writing");
@@ -171,8 +228,8 @@ int run(const std::vector<std::string>& args) {
   summary("demo", g, seeds.size(), backend_name, bar.seconds(), dir);
   std::printf("pictures: %s/labels_compare.png (uniform | min_stiffness), %s/labels.png, %s/labels_uniform.png,\n"
               "          %s/distance.png, %s/distance-ratio/weight_node0.png, %s/sibson/weight_node0.png,\n"
-              "          %s/cut/cut.png (before | after the cut)\n",
-              dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str());
+              "          %s/cut/cut.png (before | after the cut), %s/cut/cut_weights.png (a weight before | after)\n",
+              dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str());
   return 0;
 }
 
@@ -185,7 +242,8 @@ const command demo_command = {
     "Builds the T-bone steak phantom (128 x 96 x 32 voxels of 1 mm: meat, fat, bone) with 12 nodes on\n"
     "its middle slice, and computes its Voronoi diagram under min_stiffness and uniform, Distance Ratio\n"
     "weights on every voxel, Sibson weights at full resolution on the middle slice (z = 16), and the\n"
-    "diagram after a cut beside the bone (incremental update, checked against a full recompute).\n"
+    "diagram after a cut beside the bone (incremental update, checked against a full recompute) with\n"
+    "the Distance Ratio weights updated for it.\n"
     "\n"
     "options:\n"
     "  --out DIR           output folder, replaced as a whole when the run succeeded (default: demo-out)\n"
@@ -205,7 +263,9 @@ const command demo_command = {
     "                      (points x nodes CSR), weights_at.csv, weight_node0.png (node 0's weight)\n"
     "  cut/                blade.obj (the plane y = 49.5 mm, x 70..100, z 6..26: along the top of the\n"
     "                      bone's bar), changed.mhd and cut.png (cells before | after the cut) as\n"
-    "                      `geovoronoi cut` writes them\n"
+    "                      `geovoronoi cut` writes them, cut_weights.png (the Distance Ratio weight on\n"
+    "                      the slice z = 16 of the node the cut changes most, before | after; the\n"
+    "                      weights after come from update_shape_functions)\n"
     "\n"
     "example:\n"
     "  geovoronoi demo --out demo-out\n",

@@ -14,13 +14,6 @@ namespace gvcli {
 
 namespace {
 
-gv::shape_method parse_method(const std::string& m) {
-  if (m == "distance-ratio" || m == "distance_ratio") return gv::shape_method::distance_ratio;
-  if (m == "sibson") return gv::shape_method::sibson;
-  if (m == "laplace") return gv::shape_method::laplace;
-  throw usage_error("unknown method '" + m + "' (distance-ratio, sibson or laplace)");
-}
-
 /// The points of --at FILE as voxels of @p g: CSV rows like the seed file's, voxel indices, or world
 /// coordinates rounded to the nearest voxel centre with --world (grid::nearest_voxel, as the seeds and
 /// the library's shape_functions_at for world points). A point outside the grid is a usage error
@@ -102,25 +95,21 @@ void warn_if_long(const Fns& fns, const Spec& spec, const gv::diagram<T, 3>& d, 
 }
 
 int run(const std::vector<std::string>& args) {
-  const arguments a(args, solve_options({"--method", "--nodes-per-voxel", "--picture-node", "--at"}), solve_flags(),
-                    solve_repeatable());
-  const auto method = parse_method(a.require("--method"));
-  const int k = int(a.integer("--nodes-per-voxel", 4, 1, 64));
-  const int picture_node = int(a.integer("--picture-node", 0, 0, 1 << 30));
+  auto names = shape_arg_options();
+  names.insert("--at");
+  const arguments a(args, solve_options(names), solve_flags(), solve_repeatable());
+  const shape_args sa = parse_shape_args(a);
+  const auto method = sa.method;
   const std::string at_path = a.get("--at", "");
   point_spec at;
   // checked before any work: the node must exist, the points must parse and lie in the grid
   auto check = [&](const job& j) {
     if (!at_path.empty()) at.voxels = read_points(at_path, a.has("--world"), j.geometry());
-    if (std::size_t(picture_node) >= j.seeds.size())
-      throw usage_error("--picture-node " + std::to_string(picture_node) + ": must be less than the number of nodes (" +
-                        std::to_string(j.seeds.size()) + ")");
+    check_picture_node(sa, j);
   };
   auto more = [&](const job& j, const auto& d, output_dir& out, progress_bar& bar) {
     bar.update(method_name(method), 0.0);
-    gv::shape_options opt;
-    opt.method = method;
-    opt.max_nodes_per_voxel = k;
+    gv::shape_options opt = sa.options();
     opt.progress = [&](double f) {
       bar.set_fraction(f);
       return true;
@@ -140,7 +129,7 @@ int run(const std::vector<std::string>& args) {
     }
     const auto w = fns.shape(j.spec<T>(), d, opt);
     bar.update("writing");
-    write_shape(out.subdir("."), w, d, picture_node, j.pictures(), method_name(method));
+    write_shape(out.subdir("."), w, d, sa.picture_node, j.pictures(), method_name(method));
   };
   return solve_and_write("shape-functions", a, check, more, more);
 }
