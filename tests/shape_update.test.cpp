@@ -27,7 +27,7 @@ using gvtest::wavy_cost;
 
 void report(const char* what, const gvtest::shape_update_totals& before) {
   const auto& t = shape_totals();
-  MESSAGE(what << ": " << t.updates - before.updates << " voxel updates (distance ratio "
+  MESSAGE(std::string(what) << ": " << t.updates - before.updates << " voxel updates (distance ratio "
                << t.per_method[0] - before.per_method[0] << ", sibson " << t.per_method[1] - before.per_method[1]
                << ", laplace " << t.per_method[2] - before.per_method[2] << "), " << t.point_updates - before.point_updates
                << " point updates; " << t.partial - before.partial << " recomputed fewer rows than all, "
@@ -41,14 +41,14 @@ void report(const char* what, const gvtest::shape_update_totals& before) {
 TEST_CASE("shape update after random sequences of edits equals a full recompute, bit for bit, step after step") {
   const auto before = shape_totals();
   // every metric once or more (asymmetric: destination_cost, wavy_cost), 2D and 3D, float and double
-  gvtest::shape_edits<float, 2, 8, gv::min_stiffness, destination_cost, gv::mean_cost>(gv::seq, 3, 4, every_edit, 14, true);
-  gvtest::shape_edits<double, 2, 4, wavy_cost>(gv::seq, 3, 3, every_edit, 15, false);
-  gvtest::shape_edits<float, 3, 26, gv::mean_stiffness, wavy_cost, gv::uniform>(gv::seq, 3, 3, every_edit, 18, true);
-  gvtest::shape_edits<float, 3, 6, destination_cost>(gv::seq, 3, 3, every_edit, 17, false);
+  gvtest::shape_edits<float, 2, 8, gv::min_stiffness, destination_cost, gv::mean_cost>(gv::seq, 24, 5, every_edit, 14, true);
+  gvtest::shape_edits<double, 2, 4, wavy_cost>(gv::seq, 30, 4, every_edit, 15, false);
+  gvtest::shape_edits<float, 3, 26, gv::mean_stiffness, wavy_cost, gv::uniform>(gv::seq, 18, 4, every_edit, 18, true);
+  gvtest::shape_edits<float, 3, 6, destination_cost>(gv::seq, 30, 4, every_edit, 17, false);
   report("combined edits", before);
   const auto& t = shape_totals();
-  CHECK(t.updates - before.updates > 200);
-  for (int m = 0; m < 3; ++m) CHECK(t.per_method[std::size_t(m)] > before.per_method[std::size_t(m)] + 50);
+  CHECK(t.updates - before.updates > 2000);
+  for (int m = 0; m < 3; ++m) CHECK(t.per_method[std::size_t(m)] > before.per_method[std::size_t(m)] + 500);
   // the update is incremental: many updates recompute strictly fewer rows than a full computation,
   // and over the run far fewer rows are recomputed than there are
   CHECK(t.partial - before.partial > (t.updates - before.updates) / 4);
@@ -60,9 +60,9 @@ TEST_CASE("shape update after one kind of edit at a time (cuts, carving, added v
   for (const unsigned kind : {unsigned(gvtest::cut_edit | gvtest::field_edit), unsigned(gvtest::carve_edit),
                               unsigned(gvtest::add_edit), unsigned(gvtest::field_edit), unsigned(gvtest::node_edits)}) {
     const auto before = shape_totals();
-    gvtest::shape_edits<float, 2, 8, gv::min_stiffness, destination_cost, gv::mean_cost>(gv::seq, 2, 3, kind, 20 + kind,
+    gvtest::shape_edits<float, 2, 8, gv::min_stiffness, destination_cost, gv::mean_cost>(gv::seq, 10, 3, kind, 20 + kind,
                                                                                         false);
-    gvtest::shape_edits<float, 3, 26, gv::mean_stiffness, wavy_cost, gv::uniform>(gv::seq, 1, 2, kind, 40 + kind, false);
+    gvtest::shape_edits<float, 3, 26, gv::mean_stiffness, wavy_cost, gv::uniform>(gv::seq, 6, 2, kind, 40 + kind, false);
     report(("kinds " + std::to_string(kind)).c_str(), before);
     CHECK(shape_totals().updates > before.updates);
   }
@@ -78,7 +78,7 @@ TEST_CASE("shape update: an empty change and a restiffening to the same values c
   const auto d = gv::voronoi(gv::seq, p, nodes, gv::solve_options{true});
   for (const auto m : {gv::shape_method::distance_ratio, gv::shape_method::sibson, gv::shape_method::laplace})
     for (const int k : {1, 3, 4}) {
-      INFO(gvtest::method_name(m) << " K " << k);
+      INFO(std::string(gvtest::method_name(m)) << " K " << k);
       gv::shape_options o;
       o.method = m;
       o.max_nodes_per_voxel = k;
@@ -104,11 +104,13 @@ TEST_CASE("shape update: an empty change and a restiffening to the same values c
       const auto d2 = gv::update(gv::seq, p, d, same);
       gvtest::require_same_diagram(d2, d, "no-op restiffening");
       s = gv::update_shape_functions_in_place(gv::seq, p, d, d2, u, same, o);
-      MESSAGE(gvtest::method_name(m) << " K " << k << ": a no-op restiffening of 2 voxels recomputed " << s.recomputed
+      if (k == 4) MESSAGE(std::string(gvtest::method_name(m)) << " K " << k << ": a no-op restiffening of 2 voxels recomputed " << s.recomputed
                                      << " of " << s.rows << " rows");
       CHECK(s.changed_voxels == 2);
       CHECK(s.recomputed >= 2);
-      CHECK(s.recomputed < s.rows);
+      // Sibson and Laplace redo the queries that can reach the two voxels; Distance Ratio redoes the
+      // supports of the nodes whose cells border them, which here cover the grid
+      if (m != gv::shape_method::distance_ratio) CHECK(s.recomputed < s.rows);
       CHECK(s.changed == 0);
       gvtest::require_same_weights(u, w, "no-op restiffening");
       // the same at points (a repeat and the masked voxel included)
@@ -145,7 +147,7 @@ TEST_CASE("shape update: the statistics count what was recomputed and what chang
   const auto after = gv::with_cuts(p, table);
   const auto d2 = gv::update(gv::seq, after, d, cut);
   for (const auto m : {gv::shape_method::distance_ratio, gv::shape_method::sibson, gv::shape_method::laplace}) {
-    INFO(gvtest::method_name(m));
+    INFO(std::string(gvtest::method_name(m)));
     gv::shape_options o;
     o.method = m;
     const auto w = gv::shape_functions(gv::seq, p, d, o);
@@ -161,7 +163,7 @@ TEST_CASE("shape update: the statistics count what was recomputed and what chang
       }
       differ += !same;
     }
-    MESSAGE(gvtest::method_name(m) << ": " << s.changed_voxels << " voxels changed, " << s.recomputed << " of "
+    MESSAGE(std::string(gvtest::method_name(m)) << ": " << s.changed_voxels << " voxels changed, " << s.recomputed << " of "
                                    << s.rows << " rows recomputed, " << s.changed << " changed (" << differ
                                    << " differ), nodes affected " << s.nodes_affected);
     CHECK(s.changed == differ);  // no node edits: a changed row is a row that differs
