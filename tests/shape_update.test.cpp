@@ -6,8 +6,6 @@
 // sequences from backend/update_thrust.cmake.
 #include <doctest/doctest.h>
 
-// shape_functions.hpp first: shape_update.hpp does not yet compile on its own (reported to the lead)
-#include <geovoronoi/shape_functions.hpp>
 #include <geovoronoi/shape_update.hpp>
 
 #include "shape_update_check.hpp"

@@ -9,7 +9,6 @@
 
 #include <doctest/doctest.h>
 
-#include <geovoronoi/shape_functions.hpp>  // before shape_update.hpp, which needs it first for now
 #include <geovoronoi/shape_update.hpp>
 
 #include "update_edits.hpp"
