@@ -29,7 +29,10 @@ void report(const char* what, const gvtest::shape_update_totals& before) {
                << t.per_method[0] - before.per_method[0] << ", sibson " << t.per_method[1] - before.per_method[1]
                << ", laplace " << t.per_method[2] - before.per_method[2] << "), " << t.point_updates - before.point_updates
                << " point updates; " << t.partial - before.partial << " recomputed fewer rows than all, "
-               << t.none - before.none << " none, " << t.full - before.full << " full; rows recomputed "
+               << t.none - before.none << " none (distance ratio / sibson / laplace: "
+               << t.partial_per_method[0] - before.partial_per_method[0] << " / "
+               << t.partial_per_method[1] - before.partial_per_method[1] << " / "
+               << t.partial_per_method[2] - before.partial_per_method[2] << " fewer), " << t.full - before.full << " full; rows recomputed "
                << t.recomputed - before.recomputed << " of " << t.rows - before.rows << ", changed "
                << t.changed - before.changed);
 }
@@ -50,6 +53,10 @@ TEST_CASE("shape update after random sequences of edits equals a full recompute,
   // the update is incremental: many updates recompute strictly fewer rows than a full computation,
   // and over the run far fewer rows are recomputed than there are
   CHECK(t.partial - before.partial > (t.updates - before.updates) / 4);
+  for (std::size_t m = 0; m < 3; ++m) {
+    INFO("method " << m << " (0 distance ratio, 1 sibson, 2 laplace)");
+    CHECK(t.partial_per_method[m] - before.partial_per_method[m] > (t.per_method[m] - before.per_method[m]) / 10);
+  }
   CHECK(t.recomputed - before.recomputed < (t.rows - before.rows) * 3 / 4);
   CHECK(t.changed - before.changed > 0);
 }

@@ -32,6 +32,7 @@ struct shape_update_totals {
   std::size_t full = 0;          // voxel updates that reported stats.full
   std::size_t rows = 0, recomputed = 0, changed = 0;
   std::array<std::size_t, 3> per_method{};  // voxel updates per method
+  std::array<std::size_t, 3> partial_per_method{};  // of which recomputed fewer rows than all
 };
 inline shape_update_totals& shape_totals() {
   static shape_update_totals t;
@@ -200,9 +201,11 @@ struct shape_tracker {
       CHECK(s.changed_voxels <= s.region_voxels);  // X lies in R
       if (s.full) CHECK(s.recomputed == s.rows);
       ++t.updates;
-      ++t.per_method[std::size_t(sl.opt.method == gv::shape_method::distance_ratio ? 0
-                                 : sl.opt.method == gv::shape_method::sibson       ? 1
-                                                                                    : 2)];
+      const std::size_t mi = sl.opt.method == gv::shape_method::distance_ratio ? 0
+                             : sl.opt.method == gv::shape_method::sibson       ? 1
+                                                                                : 2;
+      ++t.per_method[mi];
+      t.partial_per_method[mi] += s.recomputed < s.rows;
       t.partial += s.recomputed < s.rows;
       t.none += s.recomputed == 0;
       t.full += s.full;
