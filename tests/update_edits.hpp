@@ -15,6 +15,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <type_traits>
 
 namespace gvtest {
 inline bool edit_case_dbg = false;
@@ -26,6 +27,19 @@ struct wavy_cost {
     return length * (T(0.25) + (from - T(2)) * (from - T(2))) / (T(0.5) + to);
   }
 };
+
+/// The metric's name in failure messages.
+template <class Metric>
+const char* metric_label() {
+  namespace gv = geovoronoi;
+  if constexpr (std::is_same_v<Metric, gv::min_stiffness>) return "min_stiffness";
+  else if constexpr (std::is_same_v<Metric, gv::mean_stiffness>) return "mean_stiffness";
+  else if constexpr (std::is_same_v<Metric, gv::mean_cost>) return "mean_cost";
+  else if constexpr (std::is_same_v<Metric, gv::uniform>) return "uniform";
+  else if constexpr (std::is_same_v<Metric, destination_cost>) return "destination_cost";
+  else if constexpr (std::is_same_v<Metric, wavy_cost>) return "wavy_cost";
+  else return "user metric";
+}
 
 /// Counters over all cases, so a run can show it was not vacuous.
 struct edit_totals {
@@ -54,17 +68,26 @@ void require_same_diagram(const D& a, const D& b, const std::string& what) {
   CHECK(bad < 0);
 }
 
+/// The default hook of edit_case: does nothing.
+struct no_edit_hook {
+  template <class... A>
+  void operator()(const A&...) const noexcept {}
+};
+
 /// What one random step edits (bits): field values, carving, added voxels, node edits, cuts.
 enum edit_kind : unsigned { field_edit = 1, carve_edit = 2, add_edit = 4, node_edits = 8, cut_edit = 16 };
 
 /**
  * One random problem and `steps` random changes. `kinds` selects the edits (a mask of edit_kind;
  * each step draws a non-empty subset). `with_cuts` solves on a problem that carries cuts (and lets
- * steps add cuts).
+ * steps add cuts). `hook(problem, d_before, d_after, change, what)` is called once on the first
+ * diagram (d_before and d_after both that diagram, change null, what "start ...") and after every
+ * update with the problem after the change, the diagrams before and after it (d_after the checked
+ * update) and a pointer to the change; the problem is valid during the call only.
  */
-template <class T, int Dim, class Metric, int N, class Policy>
+template <class T, int Dim, class Metric, int N, class Policy, class Hook = no_edit_hook>
 void edit_case(const Policy& policy, std::mt19937_64& rng, int trial, bool cost, int steps, unsigned kinds,
-               bool with_cuts) {
+               bool with_cuts, Hook&& hook = Hook{}) {
   namespace gv = geovoronoi;
   using idx = gv::index_t;
   const auto g = random_grid<Dim>(rng, trial % 2 == 1);
@@ -82,6 +105,12 @@ void edit_case(const Policy& policy, std::mt19937_64& rng, int trial, bool cost,
     return gv::voronoi(policy, problem(), nodes, gv::solve_options{true});
   };
   auto d = solve(seeds0);
+  const std::string name = "dim " + std::to_string(Dim) + " N " + std::to_string(N) + " " + metric_label<Metric>() +
+                           (sizeof(T) == 4 ? " float" : " double") + (with_cuts ? " with cuts" : "") + " trial " + std::to_string(trial);
+  if (with_cuts)
+    hook(gv::with_cuts(problem(), table), d, d, static_cast<const gv::change<Dim>*>(nullptr), "start " + name);
+  else
+    hook(problem(), d, d, static_cast<const gv::change<Dim>*>(nullptr), "start " + name);
   std::uniform_real_distribution<double> u(0, 1);
   const T outside = cost ? T(-1) : T(0);
   auto is_node = [&](idx v) { return std::find(d.seeds.begin(), d.seeds.end(), v) != d.seeds.end(); };
@@ -175,9 +204,8 @@ void edit_case(const Policy& policy, std::mt19937_64& rng, int trial, bool cost,
     std::vector<gv::coord<Dim>> node_coords;
     for (const idx v : nodes) node_coords.push_back(g.coords(v));
     CHECK(gv::edited_nodes(g, d.seeds, c.nodes) == node_coords);
-    const std::string what = "dim " + std::to_string(Dim) + " N " + std::to_string(N) + " trial " +
-                             std::to_string(trial) + " step " + std::to_string(s) + " kinds " + std::to_string(k) +
-                             " mode " + std::to_string(mode) + " nodes " + std::to_string(c.nodes.size());
+    const std::string what = name + " step " + std::to_string(s) + " kinds " + std::to_string(k) + " mode " +
+                             std::to_string(mode) + " nodes " + std::to_string(c.nodes.size());
     gv::update_stats st;
     const auto updated = with_cuts ? gv::update(policy, gv::with_cuts(problem(), table), d, c, &st)
                                    : gv::update(policy, problem(), d, c, &st);
@@ -199,22 +227,28 @@ void edit_case(const Policy& policy, std::mt19937_64& rng, int trial, bool cost,
     t.sources += st.sources_added;
     t.removed += st.nodes_removed;
     t.repairs += st.repairs;
+    if (with_cuts)
+      hook(gv::with_cuts(problem(), table), d, updated, &c, what);
+    else
+      hook(problem(), d, updated, &c, what);
     d = updated;
   }
 }
 
-template <class T, int Dim, int N, class Policy>
-void edit_all_metrics(const Policy& policy, int trials, int steps, unsigned kinds, std::uint64_t seed = 0) {
+/// edit_case on every metric (`hook` as there, shared by all cases).
+template <class T, int Dim, int N, class Policy, class Hook = no_edit_hook>
+void edit_all_metrics(const Policy& policy, int trials, int steps, unsigned kinds, std::uint64_t seed = 0,
+                      Hook&& hook = Hook{}) {
   namespace gv = geovoronoi;
   std::mt19937_64 rng(4242 + 31 * N + 100 * sizeof(T) + 7 * steps + kinds + seed);
   for (int t = 0; t < trials; ++t) {
     const bool cuts = t % 3 == 0;
-    edit_case<T, Dim, gv::min_stiffness, N>(policy, rng, t, false, steps, kinds, cuts);
-    edit_case<T, Dim, gv::mean_stiffness, N>(policy, rng, t, false, steps, kinds, cuts);
-    edit_case<T, Dim, gv::mean_cost, N>(policy, rng, t, true, steps, kinds, cuts);
-    edit_case<T, Dim, destination_cost, N>(policy, rng, t, false, steps, kinds, cuts);
-    edit_case<T, Dim, wavy_cost, N>(policy, rng, t, false, steps, kinds, cuts);
-    edit_case<T, Dim, gv::uniform, N>(policy, rng, t, false, steps, kinds, cuts);
+    edit_case<T, Dim, gv::min_stiffness, N>(policy, rng, t, false, steps, kinds, cuts, hook);
+    edit_case<T, Dim, gv::mean_stiffness, N>(policy, rng, t, false, steps, kinds, cuts, hook);
+    edit_case<T, Dim, gv::mean_cost, N>(policy, rng, t, true, steps, kinds, cuts, hook);
+    edit_case<T, Dim, destination_cost, N>(policy, rng, t, false, steps, kinds, cuts, hook);
+    edit_case<T, Dim, wavy_cost, N>(policy, rng, t, false, steps, kinds, cuts, hook);
+    edit_case<T, Dim, gv::uniform, N>(policy, rng, t, false, steps, kinds, cuts, hook);
   }
 }
 
