@@ -36,3 +36,25 @@ function(one_line name needle)
     message(SEND_ERROR "FAIL: ${name}: expected one stderr line containing '${needle}', got: ${ERR_${name}}")
   endif()
 endfunction()
+
+# The cut tests' problem, written into @p dir: slab.pgm, a 12 x 10 picture of stiffness 200 (ASCII PGM,
+# extruded to 3 slices by the tests); slab_carved.pgm, the same with the columns x = 5, 6 outside (0),
+# what --carve 5:6,0:9,0:2 makes of it; blade.obj, a blade at x = 3.5 for y from 2 to 8 through all
+# slices (paths from a seed at x = 1 go round it).
+function(write_cut_slab dir)
+  set(row "")
+  set(row_carved "")
+  foreach(x RANGE 11)
+    string(APPEND row " 200")
+    if(x EQUAL 5 OR x EQUAL 6)
+      string(APPEND row_carved " 0")
+    else()
+      string(APPEND row_carved " 200")
+    endif()
+  endforeach()
+  string(REPEAT "${row}\n" 10 rows)
+  string(REPEAT "${row_carved}\n" 10 rows_carved)
+  file(WRITE ${dir}/slab.pgm "P2\n12 10\n255\n${rows}")
+  file(WRITE ${dir}/slab_carved.pgm "P2\n12 10\n255\n${rows_carved}")
+  file(WRITE ${dir}/blade.obj "v 3.5 2 -5\nv 3.5 8 -5\nv 3.5 8 5\nv 3.5 2 5\nf 1 2 3 4\n")
+endfunction()

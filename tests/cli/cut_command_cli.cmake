@@ -59,25 +59,9 @@ function(check_changed dir)
   endif()
 endfunction()
 
-# A 12 x 10 picture of stiffness 200 (ASCII PGM), extruded to 3 slices; the same with columns x = 5, 6
-# outside (0): what --carve 5:6,0:9,0:2 makes of it.
-set(row "")
-set(row_carved "")
-foreach(x RANGE 11)
-  string(APPEND row " 200")
-  if(x EQUAL 5 OR x EQUAL 6)
-    string(APPEND row_carved " 0")
-  else()
-    string(APPEND row_carved " 200")
-  endif()
-endforeach()
-string(REPEAT "${row}\n" 10 rows)
-string(REPEAT "${row_carved}\n" 10 rows_carved)
-file(WRITE ${WORK}/slab.pgm "P2\n12 10\n255\n${rows}")
-file(WRITE ${WORK}/slab_carved.pgm "P2\n12 10\n255\n${rows_carved}")
+# the slab, its carved copy and the blade (common.cmake)
+write_cut_slab(${WORK})
 file(WRITE ${WORK}/two.csv "1,5,1\n10,5,1\n")
-# a blade at x = 3.5 for y from 2 to 8 through all slices: paths from seed 0 go round it
-file(WRITE ${WORK}/blade.obj "v 3.5 2 -5\nv 3.5 8 -5\nv 3.5 8 5\nv 3.5 2 5\nf 1 2 3 4\n")
 file(WRITE ${WORK}/bad.obj "v 1 2 3\nf 1 2 7\n")
 set(S --stiffness slab.pgm --extrude 3 --seeds two.csv)
 

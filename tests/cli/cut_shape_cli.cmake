@@ -77,22 +77,8 @@ endfunction()
 # The problem of cut_command_cli.cmake: a 12 x 10 picture of stiffness 200 extruded to 3 slices,
 # two seeds, a blade at x = 3.5 (y 2..8, every slice) beside seed 0; the same field with the
 # columns x = 5, 6 outside, what --carve 5:6,0:9,0:2 makes of it.
-set(row "")
-set(row_carved "")
-foreach(x RANGE 11)
-  string(APPEND row " 200")
-  if(x EQUAL 5 OR x EQUAL 6)
-    string(APPEND row_carved " 0")
-  else()
-    string(APPEND row_carved " 200")
-  endif()
-endforeach()
-string(REPEAT "${row}\n" 10 rows)
-string(REPEAT "${row_carved}\n" 10 rows_carved)
-file(WRITE ${WORK}/slab.pgm "P2\n12 10\n255\n${rows}")
-file(WRITE ${WORK}/slab_carved.pgm "P2\n12 10\n255\n${rows_carved}")
+write_cut_slab(${WORK})
 file(WRITE ${WORK}/seeds.csv "1,5,1\n10,5,1\n8,1,1\n")
-file(WRITE ${WORK}/blade.obj "v 3.5 2 -5\nv 3.5 8 -5\nv 3.5 8 5\nv 3.5 2 5\nf 1 2 3 4\n")
 set(S --stiffness slab.pgm --extrude 3 --seeds seeds.csv)
 # voxel (4,5,1), just behind the blade from seed 0: its distance and so its weights change
 set(behind 184)
