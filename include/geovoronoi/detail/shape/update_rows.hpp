@@ -164,6 +164,19 @@ inline void offer(std::vector<double>& budget, std::vector<index_t>& reached,
   sources.push_back({b, v});
 }
 
+/// One step of the searches from N[X] \ X: from @p u into its neighbours w outside X and inside the
+/// domain, each at the weight of the edge w -> u (the searches being bounded run toward N[X]).
+template <class P, class F>
+void toward_x_step(const P& after, const stencil_walker<P::dim>& walk, const update::voxel_bits& x, index_t u, F&& f) {
+  using T = typename P::value_type;
+  const T fu = after.field[u];
+  walk.for_each_neighbour(after, u, [&](int k, index_t w) {
+    if (x.test(w) || !after.inside(w)) return;
+    const T wt = after.metric(after.edges.length[opposite_direction(k, P::neighbours)], after.field[w], fu);
+    if (wt >= T(0)) f(w, double(wt));
+  });
+}
+
 /**
  * Sibson / Laplace: the queries whose search before the change can have read a changed voxel. The
  * search of q reads (distance, label, field, cut bits) only at voxels of its new cell C_q and their
@@ -192,13 +205,7 @@ void natural_neighbour_candidates(const P& after, const D& before, const update:
   };
   for (const index_t v : xs) walk.for_each_neighbour(after, v, [&](int, index_t u) { source(u); });
   budget_search(budget, reached, sources, [&](index_t u, double, auto&& f) {
-    const T fu = after.field[u];
-    walk.for_each_neighbour(after, u, [&](int k, index_t w) {
-      if (x.test(w) || !after.inside(w)) return;
-      // q's path runs w -> u: the weight of that direction
-      const T wt = after.metric(after.edges.length[opposite_direction(k, P::neighbours)], after.field[w], fu);
-      if (wt >= T(0)) f(w, double(wt));
-    });
+    toward_x_step(after, walk, x, u, f);
     return true;
   });
   for (const index_t v : reached) rows.insert(v);
@@ -295,12 +302,7 @@ std::size_t distance_ratio_candidates(const P& after, const D& before, const D& 
         if (y >= 0 && y < after.geometry.extent(fc.axis)) frontier(before.label[z + fc.delta]);
       }
       if (unhit == 0) return false;
-      const T fu = after.field[z];
-      walk.for_each_neighbour(after, z, [&](int k, index_t w) {
-        if (x.test(w) || !after.inside(w)) return;
-        const T wt = after.metric(after.edges.length[opposite_direction(k, P::neighbours)], after.field[w], fu);
-        if (wt >= T(0)) f(w, double(wt));
-      });
+      toward_x_step(after, walk, x, z, f);
       return true;
     });
   }
