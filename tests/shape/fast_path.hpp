@@ -2,9 +2,12 @@
 // (detail/shape/fused_padded.hpp) against the brute-force definition on connectivities and metrics the
 // other cases leave out, on grids of a few voxels per axis (most voxels lie on the border, where the
 // padding stands in for the bounds checks), with a user metric (which keeps the negative-weight check)
-// and with a metric that returns a negative weight.
+// and with a metric that returns a negative weight; and the sixteen-lane search (fused_lanes.hpp)
+// against the one-query search, bit for bit.
 
 namespace gvshape {
+
+inline int lanes_engaged = 0;
 
 /// A user metric (not one of the built-ins): harmonic mean of the two compliances.
 struct harmonic_metric : gv::stiffness_domain {
@@ -33,6 +36,84 @@ TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: the padded fast 
     brute_force_case<3, 18, harmonic_metric>(rng, trial);
     brute_force_case<3, 26, gv::mean_cost>(rng, trial);
   }
+}
+
+/// Weights of @p p with the default budget (the sixteen-lane search, where it applies) and with a budget
+/// that holds one one-query worker only, compared bit for bit; whole grid and chosen points.
+template <class P>
+void lanes_case(std::mt19937_64& rng, const P& p, const std::string& what) {
+  namespace sh = gv::detail::shape;
+  using Policy = std::decay_t<decltype(GEOVORONOI_SHAPE_POLICY())>;
+  const auto seeds = random_seeds(rng, p, 2 + int(rng() % 7));
+  if (seeds.size() < 2) return;
+  const auto d = gv::voronoi(gv::seq, p, seeds);
+  gv::shape_options o;
+  o.max_nodes_per_voxel = 1 + int(rng() % 8);
+  const std::size_t single = sh::fused_worker_budget(p, seeds.size()) +
+                             sh::piecewise_tables<P>(gv::seq, p).bytes();
+  // points in any order, some twice: rows of the same voxel must agree with each other and the grid
+  std::vector<gv::coord<P::dim>> pts;
+  for (int i = 0; i < 40; ++i) pts.push_back(p.geometry.coords(gv::index_t(rng() % std::uint64_t(p.geometry.size()))));
+  pts.push_back(pts[3]);
+  for (const auto m : {gv::shape_method::sibson, gv::shape_method::laplace}) {
+    INFO(what << " " << method_name(m));
+    o.method = m;
+    o.memory_budget = std::size_t(1) << 30;
+    const bool lanes = sh::uses_fused_lanes<Policy>(p, seeds.size(), o.memory_budget);
+    if (lanes) ++lanes_engaged;
+    const auto a = gv::shape_functions(GEOVORONOI_SHAPE_POLICY(), p, d, o);
+    const auto at = gv::shape_functions_at(GEOVORONOI_SHAPE_POLICY(), p, d, pts, o);
+    o.memory_budget = single;
+    REQUIRE_FALSE(sh::uses_fused_lanes<Policy>(p, seeds.size(), o.memory_budget));
+    const auto b = gv::shape_functions(GEOVORONOI_SHAPE_POLICY(), p, d, o);
+    const auto bt = gv::shape_functions_at(GEOVORONOI_SHAPE_POLICY(), p, d, pts, o);
+    CHECK(a.node == b.node);
+    CHECK(std::memcmp(a.weight.data(), b.weight.data(), a.weight.size() * sizeof(a.weight[0])) == 0);
+    CHECK(at.node == bt.node);
+    CHECK(std::memcmp(at.weight.data(), bt.weight.data(), at.weight.size() * sizeof(at.weight[0])) == 0);
+    const int k = o.max_nodes_per_voxel;
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      for (int s = 0; s < k; ++s) {
+        const std::size_t v = std::size_t(p.geometry.index(pts[i])) * std::size_t(k) + std::size_t(s);
+        CHECK(at.node[i * std::size_t(k) + std::size_t(s)] == a.node[v]);
+        CHECK(std::memcmp(&at.weight[i * std::size_t(k) + std::size_t(s)], &a.weight[v], sizeof(a.weight[0])) == 0);
+      }
+  }
+}
+
+TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: sixteen queries per search give the weights of "
+          "one query per search, bit for bit") {
+  std::mt19937_64 rng(20261202);
+  lanes_engaged = 0;
+  for (int trial = 0; trial < 3; ++trial) {
+    // exact ties everywhere (levels 1, 2, 4), masks with NaN and 0; continuous fields
+    const bool ties = trial != 1;
+    {
+      const gv::grid<3> g({9 + int(rng() % 6), 8 + int(rng() % 5), 5 + int(rng() % 5)}, {1.0, trial == 2 ? 0.5 : 1.0, 1.5});
+      const auto f = random_field<float>(rng, g.size(), ties, 0.1, false);
+      lanes_case(rng, gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<26>{}), "min_stiffness 26");
+      lanes_case(rng, gv::make_problem(g, f, gv::mean_stiffness{}, gv::connectivity<18>{}), "mean_stiffness 18");
+      lanes_case(rng, gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<6>{}), "min_stiffness 6");
+      // cut edges
+      const gv::cut_table cuts(random_cuts(rng, g, gv::connectivity<26>{}, 0.2));
+      lanes_case(rng, gv::with_cuts(gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<26>{}), cuts),
+                 "min_stiffness 26 cuts");
+      // blocks of constant value: the exact balls seed the lanes
+      const auto bf = block_field<float>(rng, g, 0.1, true);
+      lanes_case(rng, gv::make_problem(g, bf, gv::min_stiffness{}, gv::connectivity<26>{}), "blocks 26");
+      const auto cf = random_field<float>(rng, g.size(), ties, 0.1, true);
+      lanes_case(rng, gv::make_problem(g, cf, gv::mean_cost{}, gv::connectivity<26>{}), "mean_cost 26");
+    }
+    {
+      const gv::grid<2> g({20 + int(rng() % 9), 17 + int(rng() % 9)});
+      const auto f = random_field<float>(rng, g.size(), ties, 0.1, false);
+      lanes_case(rng, gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<8>{}), "2D min_stiffness 8");
+      lanes_case(rng, gv::make_problem(g, f, gv::mean_stiffness{}, gv::connectivity<4>{}), "2D mean_stiffness 4");
+    }
+  }
+#ifdef GEOVORONOI_FUSED_LANES
+  CHECK(lanes_engaged > 20);  // the comparison above did run the lanes (host backends on x86)
+#endif
 }
 
 TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: a negative edge weight met by the search is a "

@@ -5,6 +5,7 @@
 
 #include <geovoronoi/detail/shape/common.hpp>
 #include <geovoronoi/detail/shape/host_parallel.hpp>
+#include <geovoronoi/detail/shape/fused_lanes.hpp>
 #include <geovoronoi/detail/shape/fused_padded.hpp>
 #include <geovoronoi/detail/shape/fused_query.hpp>
 #include <geovoronoi/detail/shape/scratch_pool.hpp>
@@ -155,7 +156,59 @@ struct fused_worker {
   std::size_t bytes() const noexcept {
     return search.bytes() + s.acc.volume.capacity() * (sizeof(std::int64_t) * 4 + sizeof(double) + 1 + sizeof(label_t));
   }
+  /// Runs queries[b, e), one search each, writing each row; returns the voxels visited.
+  template <class Face, class Write>
+  std::size_t run(const std::vector<index_t>& queries, std::size_t b, std::size_t e, const index_t* voxel_of,
+                  bool laplace, const std::vector<Face>& faces, Write& write) {
+    std::size_t sum = 0;
+    for (std::size_t i = b; i < e; ++i) {
+      std::size_t visited = 0;
+      const bool any_facet = search.run(voxel_of[queries[i]], laplace, faces, s.acc, visited);
+      write(queries[i], s, any_facet);
+      sum += visited;
+    }
+    peak = std::max(peak, bytes());
+    return sum;
+  }
 };
+
+#ifdef GEOVORONOI_FUSED_LANES
+/// A worker of the sixteen-lane search (fused_lanes.hpp): consecutive queries share a search.
+template <class P>
+struct fused_lanes_worker {
+  static constexpr int lanes = fused_lanes_padded<P>::lanes;
+  fused_lanes_padded<P> search;
+  std::vector<query_scratch<typename P::value_type>> s;  // one per lane
+  std::size_t peak = 0;
+  fused_lanes_worker(std::size_t nodes, const P& p, const padded_grid<P>& g, const piecewise_tables<P>* pw)
+      : search(p, g, pw), s(std::size_t(lanes), query_scratch<typename P::value_type>(nodes)) {}
+  std::size_t bytes() const noexcept {
+    return search.bytes() +
+           lanes * s[0].acc.volume.capacity() * (sizeof(std::int64_t) * 4 + sizeof(double) + 1 + sizeof(label_t));
+  }
+  template <class Face, class Write>
+  std::size_t run(const std::vector<index_t>& queries, std::size_t b, std::size_t e, const index_t* voxel_of,
+                  bool laplace, const std::vector<Face>& faces, Write& write) {
+    std::size_t sum = 0;
+    index_t q[lanes];
+    accumulators* acc[lanes];
+    bool any_facet[lanes];
+    std::size_t visited[lanes];
+    for (int j = 0; j < lanes; ++j) acc[j] = &s[std::size_t(j)].acc;
+    for (std::size_t i = b; i < e; i += lanes) {
+      const int n = int(std::min<std::size_t>(lanes, e - i));
+      for (int j = 0; j < n; ++j) q[j] = voxel_of[queries[i + std::size_t(j)]];
+      search.run(q, n, laplace, faces, acc, any_facet, visited);
+      for (int j = 0; j < n; ++j) {
+        write(queries[i + std::size_t(j)], s[std::size_t(j)], any_facet[j]);
+        sum += visited[j];
+      }
+    }
+    peak = std::max(peak, bytes());
+    return sum;
+  }
+};
+#endif
 
 /// Bytes one fused worker is budgeted: its key array, room for a cell list of the whole grid and a
 /// queue of half the grid (cells stay far below that on real problems), the per-node accumulators.
@@ -172,6 +225,32 @@ std::size_t fused_worker_budget(const P& p, std::size_t nodes) {
          nodes * 64 + 65536;
 }
 
+#ifdef GEOVORONOI_FUSED_LANES
+/// Bytes one sixteen-lane worker is budgeted (besides the shared tables): its dense arrays, room for a
+/// touched list of the whole grid and a queue of half of it, the accumulators of its lanes.
+template <class P>
+std::size_t fused_lanes_worker_bytes(const P& p, std::size_t nodes) {
+  const std::size_t n = std::size_t(p.geometry.size());
+  return fused_lanes_padded<P>::dense_bytes(p) + n * sizeof(std::uint32_t) +
+         n / 2 * fused_lanes_padded<P>::heap_item_bytes() + fused_lanes_padded<P>::lanes * (nodes * 64 + 4096) + 65536;
+}
+
+/// Whether Sibson/Laplace on problem @p p with @p policy run the sixteen-lane search (fused_lanes.hpp)
+/// given the memory budget (queries then go in Morton order, so that a search's lanes are neighbours).
+template <class Policy, class P>
+bool uses_fused_lanes(const P& p, std::size_t nodes, std::size_t budget) {
+  if constexpr (queries_on_host<Policy>::value && fused_lanes_apply<P>::value) {
+    return padded_grid<P>::applies(p) && !translation_invariant(p) &&
+           budget >= fused_lanes_worker_bytes(p, nodes) + padded_grid<P>::shared_bytes(p);
+  } else {
+    return false;
+  }
+}
+#else
+template <class Policy, class P>
+bool uses_fused_lanes(const P&, std::size_t, std::size_t) { return false; }
+#endif
+
 /// The query loop of fused_natural_neighbours over a pool of workers (either search).
 template <class Policy, class Options, class Face, class Write, class Pool>
 void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, const std::vector<Face>& faces,
@@ -182,14 +261,7 @@ void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, co
   const std::size_t groups = (total + group - 1) / group;
   std::vector<std::size_t> sample(groups, 0);  // cell size of each group's first query
   std::atomic<std::size_t> visited_total{0};
-  auto one = [&](auto& wk, std::size_t i) {
-    std::size_t visited = 0;
-    const bool any_facet = wk.search.run(voxel_of[queries[i]], laplace, faces, wk.s.acc, visited);
-    write(queries[i], wk.s, any_facet);
-    const std::size_t b = wk.bytes();
-    if (b > wk.peak) wk.peak = b;
-    return visited;
-  };
+  auto one = [&](auto& wk, std::size_t i) { return wk.run(queries, i, i + 1, voxel_of, laplace, faces, write); };
   // 1. the sample: the first query of every group
   for (std::size_t g0 = 0; g0 < groups; g0 += opt.batch_size) {
     const std::size_t g1 = std::min(groups, g0 + opt.batch_size);
@@ -218,9 +290,7 @@ void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, co
       auto wk = pool.acquire();
       const std::size_t g = g0 + std::size_t(t);
       const std::size_t e = std::min(total, (g + 1) * group);
-      std::size_t sum = 0;
-      for (std::size_t i = g * group + 1; i < e; ++i) sum += one(*wk, i);
-      visited_total += sum;
+      visited_total += wk->run(queries, g * group + 1, e, voxel_of, laplace, faces, write);
     });
     for (std::size_t g = g0; g < g1; ++g)
       remaining -= double(sample[g]) * double(std::min(total, (g + 1) * group) - g * group - 1);
@@ -265,6 +335,20 @@ void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, cons
   if (padded_grid<P>::applies(p)) {
     // the fast path: the shared table is part of per_worker (fused_worker_budget), counted once here
     const padded_grid<P> g(p, dist, lab);
+#ifdef GEOVORONOI_FUSED_LANES
+    if constexpr (fused_lanes_apply<P>::value) {
+      // sixteen queries per search (fused_lanes.hpp) where the budget holds one such worker
+      const std::size_t each = fused_lanes_worker_bytes(p, nodes);
+      const std::size_t fixed = (pw ? pw->bytes() : 0) + g.bytes();
+      if (opt.memory_budget >= fixed + each) {
+        scratch_pool<fused_lanes_worker<P>> pool((opt.memory_budget - fixed) / each, [&] {
+          return std::make_unique<fused_lanes_worker<P>>(nodes, p, g, pw.get());
+        });
+        fused_query_loop(policy, opt, laplace, faces, queries, voxel_of, write, pool, fixed);
+        return;
+      }
+    }
+#endif
     const std::size_t shared = (pw ? pw->bytes() : 0) + g.bytes();
     const std::size_t room = opt.memory_budget - (pw ? pw->bytes() : 0);
     const std::size_t each = per_worker - padded_grid<P>::shared_bytes(p);
@@ -315,7 +399,10 @@ void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const 
   // that consecutive queries are near each other in all axes, their cells overlap and a search finds
   // much of its neighbourhood in the cache. Rows already in voxel order (the whole grid) keep it. Each
   // row is computed on its own, so the order changes no result.
-  if (!std::is_sorted(queries.begin(), queries.end(), [&](index_t a, index_t b) { return voxel_of[a] < voxel_of[b]; })) {
+  // The sixteen-lane search wants Morton order always: its lanes are then a 4x2x2 block of voxels, not
+  // a row of 16, and their cells overlap far more.
+  if (uses_fused_lanes<Policy>(p, nodes, opt.memory_budget) ||
+      !std::is_sorted(queries.begin(), queries.end(), [&](index_t a, index_t b) { return voxel_of[a] < voxel_of[b]; })) {
     std::vector<std::pair<std::uint64_t, index_t>> order;
     order.reserve(queries.size());
     for (index_t r : queries) order.push_back({morton_code(p.geometry.coords(voxel_of[r])), r});
