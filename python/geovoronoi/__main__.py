@@ -171,7 +171,7 @@ def _common(p):
     p.add_argument("--out", required=True, action=_Once)
 
 
-def _shape_options(p, required: bool):
+def _add_shape_options(p, required: bool):
     p.add_argument("--method", required=required, action=_Once, help="distance-ratio, sibson or laplace")
     p.add_argument("--nodes-per-voxel", action=_Once, metavar="K", help="1..64 (default: 4)")
     p.add_argument("--picture-node", action=_Once, metavar="N",
@@ -441,13 +441,13 @@ def _parser():
     _common(pv)
     ps = sub.add_parser("shape-functions", help="Voronoi shape functions", allow_abbrev=False)
     _common(ps)
-    _shape_options(ps, required=True)
+    _add_shape_options(ps, required=True)
     pc = sub.add_parser("cut", help="a diagram before and after a cut or carving: incremental update vs full "
                         "recompute", description=_CUT_HELP, epilog=_CUT_FILES, allow_abbrev=False,
                         formatter_class=argparse.RawDescriptionHelpFormatter)
     _common(pc)
     pc.add_argument("--carve", action=_Once, metavar="BOX", help="voxels removed from the domain: x0:x1,y0:y1,z0:z1")
-    _shape_options(pc, required=False)
+    _add_shape_options(pc, required=False)
     sub.add_parser("backends", help="list the backends built into the package")
     commands = {"voronoi": pv, "shape-functions": ps, "cut": pc}
     for p in commands.values():
