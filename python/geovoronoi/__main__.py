@@ -159,20 +159,25 @@ def _check_out(out: str) -> None:
 
 
 def _common(p):
-    p.add_argument("--stiffness", required=True, action=_Once)
-    p.add_argument("--seeds", required=True, action=_Once)
-    p.add_argument("--metric", default="min_stiffness", action=_Once)
-    p.add_argument("--connectivity", action=_Once, help="6, 18 or 26 (default: 26)")
-    p.add_argument("--backend", default="auto", action=_Once)
+    p.add_argument("--stiffness", required=True, action=_Once, metavar="FILE",
+                   help="the field: a MetaImage file (.mhd/.mha), read as float32")
+    p.add_argument("--seeds", required=True, action=_Once, metavar="FILE",
+                   help="CSV, one seed per line: i,j,k voxel indices (x,y,z with --world)")
+    p.add_argument("--metric", default="min_stiffness", action=_Once, metavar="M",
+                   help="min_stiffness, mean_stiffness, mean_cost or uniform (default: min_stiffness)")
+    p.add_argument("--connectivity", action=_Once, metavar="N", help="6, 18 or 26 neighbours (default: 26)")
+    p.add_argument("--backend", default="auto", action=_Once, metavar="B",
+                   help="seq or thrust (default: auto, thrust on more than one hardware thread)")
     p.add_argument("--threads", action=_Once, metavar="N",
                    help="OpenMP threads of the thrust backend, 1 to 4 x the hardware threads; no effect on seq")
-    p.add_argument("--world", action="store_true")
-    p.add_argument("--cut", action="append", default=[], metavar="MESH")
-    p.add_argument("--out", required=True, action=_Once)
+    p.add_argument("--world", action="store_true", help="seed coordinates (and cut's --carve box) are physical x,y,z")
+    p.add_argument("--cut", action="append", default=[], metavar="MESH",
+                   help="a cut surface, .stl or .obj in world coordinates; repeatable")
+    p.add_argument("--out", required=True, action=_Once, metavar="DIR", help="the output folder")
 
 
 def _add_shape_options(p, required: bool):
-    p.add_argument("--method", required=required, action=_Once, help="distance-ratio, sibson or laplace")
+    p.add_argument("--method", required=required, action=_Once, metavar="M", help="distance-ratio, sibson or laplace")
     p.add_argument("--nodes-per-voxel", action=_Once, metavar="K", help="1..64 (default: 4)")
     p.add_argument("--picture-node", action=_Once, metavar="N",
                    help="checked like the C++ tool's (less than the number of seeds), but no picture is written")
@@ -297,8 +302,9 @@ def _require_same_diagram(upd, full) -> None:
         if bad.size:
             v = np.unravel_index(bad[0], upd.shape)
             raise _Failure(f"internal error: the incremental update differs from the full recompute in its {what} "
-                           f"at voxel ({v[2]},{v[1]},{v[0]}) (distance {upd.distance[v]:.9g} vs {full.distance[v]:.9g}, "
-                           f"label {upd.label[v]} vs {full.label[v]}); please report this with the inputs")
+                           f"at voxel ({v[2]},{v[1]},{v[0]}) (distance {upd.distance[v]:.9g} vs "
+                           f"{full.distance[v]:.9g}, label {upd.label[v]} vs {full.label[v]}); please report this "
+                           "with the inputs")
 
 
 def _require_same_weights(upd, full) -> None:
@@ -372,9 +378,10 @@ def _cut(args, field, spacing, origin, orientation, seeds, lines, cut, threads, 
         _require_same_weights(w_after, w_full)
         changed_w = ((w_before[1] != w_after[1]) | (_bits(w_before[2]) != _bits(w_after[2]))).any(axis=-1)
         weights = (w_before, w_after, changed_w.astype(np.uint8))
+        full_note = " (all: no smaller set is proven)" if st["full"] else ""
         print(f"  weights update     {t_update:9.4f} s  ({name}, library update_shape_functions(), host; "
-              f"{st['recomputed']} of {st['rows']} rows recomputed{' (all: no smaller set is proven)' if st['full'] else ''}"
-              f", {int(np.count_nonzero(changed_w))} changed)")
+              f"{st['recomputed']} of {st['rows']} rows recomputed{full_note}, {int(np.count_nonzero(changed_w))} "
+              "changed)")
         print(f"  weights recompute  {t_full:9.4f} s  ({name}, shape_functions() on backend {backend})  "
               f"{t_full / t_update if t_update > 0 else 0.0:.1f}x; identical bit for bit (node and weight of every "
               "slot)", flush=True)
