@@ -423,3 +423,18 @@ def test_cut_help():
     for needle in ("--carve BOX", "x0:x1,y0:y1,z0:z1", "changed.mhd", "changed_weights.mhd", "--method",
                    "not written: the PNG pictures", "example:"):
         assert needle in r.stdout, needle
+
+
+@pytest.mark.skipif("thrust" not in gv.backends(), reason="thrust backend not built")
+def test_threads_option(job):
+    """--threads N runs the thrust backend on N threads, bit for bit what seq gives; a bad N exits 2."""
+    tmp, *_ = job
+    base = ["cut", "--stiffness", str(tmp / "stiffness.mhd"), "--seeds", str(tmp / "seeds.csv"), "--carve", _BOX,
+            "--method", "distance-ratio"]
+    r = run_py(base + ["--backend", "thrust", "--threads", "2", "--out", str(tmp / "t")])
+    assert r.returncode == 0 and "backend thrust" in r.stdout, r.stderr
+    assert run_py(base + ["--backend", "seq", "--threads", "2", "--out", str(tmp / "s")]).returncode == 0
+    for name in ("after/distance.raw", "after/label.raw", "after/weights.raw", "changed_weights.raw"):
+        assert (tmp / "t" / name).read_bytes() == (tmp / "s" / name).read_bytes(), name
+    r = run_py(base + ["--threads", "0", "--out", str(tmp / "bad")])
+    assert r.returncode == 2 and "option --threads must be an integer from 1 to" in r.stderr, r.stderr
