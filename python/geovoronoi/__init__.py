@@ -325,6 +325,20 @@ def _progress(progress: Any) -> Any:
     return progress
 
 
+def _shape_options(method: Any, k: Any, batch_size: Any) -> Tuple[str, int, int]:
+    """The method, k and batch_size of :func:`shape_functions` and :func:`update_shape_functions`."""
+    if not isinstance(method, str):
+        raise TypeError(f"geovoronoi: method must be a string ({', '.join(METHODS)}), got {method!r}")
+    if method not in METHODS:
+        raise ValueError(f"geovoronoi: unknown method {method!r} ({', '.join(METHODS)})")
+    for name, value in (("k", k), ("batch_size", batch_size)):
+        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+            raise TypeError(f"geovoronoi: {name} must be an integer, got {value!r}")
+        if value < 1:
+            raise ValueError(f"geovoronoi: {name} must be >= 1, got {value}")
+    return method, int(k), int(batch_size)
+
+
 def _inside(values: np.ndarray, metric: str) -> np.ndarray:
     if metric == "mean_cost":
         return np.isfinite(values) & (values >= 0)
@@ -545,18 +559,7 @@ def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 
     """
     import scipy.sparse
 
-    if not isinstance(method, str):
-        raise TypeError(f"geovoronoi: method must be a string ({', '.join(METHODS)}), got {method!r}")
-    if method not in METHODS:
-        raise ValueError(f"geovoronoi: unknown method {method!r} ({', '.join(METHODS)})")
-    if isinstance(k, bool) or not isinstance(k, numbers.Integral):
-        raise TypeError(f"geovoronoi: k must be an integer, got {k!r}")
-    if k < 1:
-        raise ValueError(f"geovoronoi: k must be >= 1, got {k}")
-    if isinstance(batch_size, bool) or not isinstance(batch_size, numbers.Integral):
-        raise TypeError(f"geovoronoi: batch_size must be an integer, got {batch_size!r}")
-    if batch_size < 1:
-        raise ValueError(f"geovoronoi: batch_size must be >= 1, got {batch_size}")
+    method, k, batch_size = _shape_options(method, k, batch_size)
     cb = _progress(progress)
     f = _field_array(field)
     ndim = f.ndim
@@ -592,7 +595,7 @@ def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 
         qp = _points(points, ndim, bool(world), d.spacing, d.origin, f.shape, "points", d.orientation)
     data, indices, indptr, nodes, fixed_idx, fixed_w = _ext._shape_functions(
         f, list(d.spacing), list(d.origin), d.metric, d.connectivity, _backend(backend), _threads(threads),
-        d._handle, method, int(k), int(batch_size), cb, None if qp is None else np.ascontiguousarray(qp, np.int64))
+        d._handle, method, k, batch_size, cb, None if qp is None else np.ascontiguousarray(qp, np.int64))
     # with points, only those voxels are computed (the library's shape_functions_at): one row each
     w = scipy.sparse.csr_array((data, indices, indptr), shape=(f.size if qp is None else len(qp), int(nodes)))
     if fixed_k:
@@ -1044,16 +1047,7 @@ def update_shape_functions(weights: Any, diagram_before: Diagram, diagram_after:
             or da.distance.dtype != db.distance.dtype):
         raise ValueError("geovoronoi: the diagrams before and after the change differ in shape, dtype, spacing, "
                          "origin, orientation, metric or connectivity")
-    if not isinstance(method, str):
-        raise TypeError(f"geovoronoi: method must be a string ({', '.join(METHODS)}), got {method!r}")
-    if method not in METHODS:
-        raise ValueError(f"geovoronoi: unknown method {method!r} ({', '.join(METHODS)})")
-    if isinstance(k, bool) or not isinstance(k, numbers.Integral):
-        raise TypeError(f"geovoronoi: k must be an integer, got {k!r}")
-    if k < 1:
-        raise ValueError(f"geovoronoi: k must be >= 1, got {k}")
-    if isinstance(batch_size, bool) or not isinstance(batch_size, numbers.Integral) or batch_size < 1:
-        raise ValueError(f"geovoronoi: batch_size must be an integer >= 1, got {batch_size!r}")
+    method, k, batch_size = _shape_options(method, k, batch_size)
     cb = _progress(progress)
     f = _field_like(field_after, da, "field after the change")
     given = any(x is not None for x in (cut, carved, added, restiffened, nodes))
@@ -1070,17 +1064,17 @@ def update_shape_functions(weights: Any, diagram_before: Diagram, diagram_after:
         qp = np.ascontiguousarray(_points(points, f.ndim, bool(world), da.spacing, da.origin, f.shape, "points",
                                           da.orientation), np.int64)
         rows = len(qp)
-    idx, w, ncols = _fixed_k_weights(weights, int(k), rows, len(db.seeds), f.dtype)
+    idx, w, ncols = _fixed_k_weights(weights, k, rows, len(db.seeds), f.dtype)
     (data, indices, indptr, nnodes, fixed_idx, fixed_w), st = _ext._update_shape_functions(
         f, list(da.spacing), list(da.origin), da.metric, da.connectivity, _backend(backend), _threads(threads),
-        db._handle, da._handle, *ch.args(), method, int(k), int(batch_size), cb, idx, w, ncols, qp)
+        db._handle, da._handle, *ch.args(), method, k, batch_size, cb, idx, w, ncols, qp)
     import scipy.sparse
 
     res = scipy.sparse.csr_array((data, indices, indptr), shape=(rows, int(nnodes)))
     if fixed_k:
         if qp is None:
-            fixed_idx = fixed_idx.reshape(f.shape + (int(k),))
-            fixed_w = fixed_w.reshape(f.shape + (int(k),))
+            fixed_idx = fixed_idx.reshape(f.shape + (k,))
+            fixed_w = fixed_w.reshape(f.shape + (k,))
         res = (res, fixed_idx, fixed_w)
     return (res, dict(st)) if stats else res
 

@@ -331,6 +331,18 @@ def test_bad_inputs_raise_with_a_message(tmp_path):
         gv.update_shape_functions(w, dp, u, f, method="distance_ratio", k=2, carved=np.zeros(shape, bool))
     with pytest.raises(ValueError, match="float64"):
         gv.update(dp, f.astype(np.float64), cut=cut)
+    # method, k and batch_size: the same checks and messages as shape_functions (one helper)
+    for kw, error, text in ((dict(method="natural"), ValueError, "unknown method 'natural'"),
+                            (dict(method=3), TypeError, "method must be a string"),
+                            (dict(k=0), ValueError, "k must be >= 1"),
+                            (dict(k=2.0), TypeError, "k must be an integer"),
+                            (dict(batch_size=0), ValueError, "batch_size must be >= 1"),
+                            (dict(batch_size="8"), TypeError, "batch_size must be an integer")):
+        args = dict(dict(method="distance_ratio", k=2), **kw)
+        with pytest.raises(error, match=text):
+            gv.update_shape_functions(w, dp, u, f, **args)
+        with pytest.raises(error, match=text):
+            gv.shape_functions(f, dp, **args)
 
 
 def test_update_shape_functions_reports_progress_and_cancels():
