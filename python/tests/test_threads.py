@@ -45,34 +45,27 @@ def test_gil_is_released_during_a_solve():
     assert gaps.max() < 0.5 * alone, f"longest pause {gaps.max():.3f} s during a {alone:.3f} s solve"
 
 
-@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="needs two cores")
-def test_two_threads_solve_concurrently():
-    """Two solves in two threads take less wall time than one after the other (best of 3 tries, and a
-    generous margin: the machine is shared). Process CPU time over wall time shows the overlap too."""
-    field, seeds = big_problem(64)
+def test_two_threads_solve_side_by_side():
+    """Solves in two threads at once (the GIL is released, so they run in C++ together) give the bytes
+    of the same solves run one after the other. Not a timing test: how much faster two threads are is
+    a benchmark figure, not something a unit test on a shared machine can assert."""
+    problems = [big_problem(48), big_problem(56)]
+    serial = [gv.voronoi(f, s, backend="seq") for f, s in problems]
+    out = [None, None]
+    start = threading.Barrier(2)
 
-    def one():
-        gv.voronoi(field, seeds, backend="seq")
+    def one(i):
+        start.wait()
+        out[i] = gv.voronoi(*problems[i], backend="seq")
 
-    best = np.inf
-    for _ in range(3):
-        t0 = time.perf_counter()
-        one()
-        one()
-        serial = time.perf_counter() - t0
-        threads = [threading.Thread(target=one) for _ in range(2)]
-        t0, c0 = time.perf_counter(), time.process_time()
-        for t in threads:
-            t.start()
-        for t in threads:
-            t.join()
-        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
-        best = min(best, wall / serial)
-        if best < 0.85 and cpu / wall > 1.15:
-            return
-    if os.getloadavg()[0] > (os.cpu_count() or 1) - 0.5:
-        pytest.skip(f"machine too busy to measure (load {os.getloadavg()[0]:.1f}); best ratio {best:.2f}")
-    pytest.fail(f"two threads took {best:.2f} of the serial time (expected < 0.85)")
+    threads = [threading.Thread(target=one, args=(i,)) for i in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for a, b in zip(out, serial):
+        assert a.distance.tobytes() == b.distance.tobytes()
+        assert a.label.tobytes() == b.label.tobytes()
 
 
 def test_progress_with_a_tqdm_like_update():

@@ -119,7 +119,7 @@ class fused_lanes_padded {
   }
 
  private:
-  struct alignas(16) block {
+  struct alignas(64) block {  // one cache line per voxel
     T k[lanes];
   };
   // pend_: the priority a voxel is queued at (>= 0), or one of these

@@ -177,6 +177,9 @@ struct fused_worker {
 template <class P>
 struct fused_lanes_worker {
   static constexpr int lanes = fused_lanes_padded<P>::lanes;
+  /// Queries per task: sixteen searches, the first of which is the progress estimate's sample (a
+  /// sample of one query would run a search of one lane, about three times the cost per query).
+  static constexpr std::size_t queries_per_task = 16 * lanes;
   fused_lanes_padded<P> search;
   std::vector<query_scratch<typename P::value_type>> s;  // one per lane
   std::size_t peak = 0;
@@ -251,32 +254,38 @@ template <class Policy, class P>
 bool uses_fused_lanes(const P&, std::size_t, std::size_t) { return false; }
 #endif
 
-/// The query loop of fused_natural_neighbours over a pool of workers (either search).
+/// The query loop of fused_natural_neighbours over a pool of workers (either search), in tasks of
+/// @p group consecutive queries whose first @p sampled run first (the progress estimate's sample).
 template <class Policy, class Options, class Face, class Write, class Pool>
 void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, const std::vector<Face>& faces,
                       const std::vector<index_t>& queries, const index_t* voxel_of, Write&& write, Pool& pool,
-                      std::size_t shared) {
+                      std::size_t shared, std::size_t group, std::size_t sampled) {
   const std::size_t total = queries.size();
-  const std::size_t group = queries_per_task;
   const std::size_t groups = (total + group - 1) / group;
-  std::vector<std::size_t> sample(groups, 0);  // cell size of each group's first query
+  auto begin = [&](std::size_t g) { return g * group; };
+  auto split = [&](std::size_t g) { return std::min(total, g * group + sampled); };  // end of g's sample
+  auto end = [&](std::size_t g) { return std::min(total, (g + 1) * group); };
+  std::vector<std::size_t> sample(groups, 0);  // cell sizes of each group's sampled queries, summed
   std::atomic<std::size_t> visited_total{0};
-  auto one = [&](auto& wk, std::size_t i) { return wk.run(queries, i, i + 1, voxel_of, laplace, faces, write); };
-  // 1. the sample: the first query of every group
+  // 1. the sample: the first queries of every group (tasks of up to 64 groups)
+  constexpr std::size_t groups_per_sample_task = 64;
   for (std::size_t g0 = 0; g0 < groups; g0 += opt.batch_size) {
     const std::size_t g1 = std::min(groups, g0 + opt.batch_size);
-    host_parallel_for(policy, index_t((g1 - g0 + group - 1) / group), [&](index_t t) {
+    host_parallel_for(policy, index_t((g1 - g0 + groups_per_sample_task - 1) / groups_per_sample_task), [&](index_t t) {
       auto wk = pool.acquire();
-      const std::size_t b = g0 + std::size_t(t) * group, e = std::min(g1, b + group);
+      const std::size_t b = g0 + std::size_t(t) * groups_per_sample_task, e = std::min(g1, b + groups_per_sample_task);
       std::size_t sum = 0;
-      for (std::size_t g = b; g < e; ++g) sum += sample[g] = one(*wk, g * group);
+      for (std::size_t g = b; g < e; ++g)
+        sum += sample[g] = wk->run(queries, begin(g), split(g), voxel_of, laplace, faces, write);
       visited_total += sum;
     });
   }
-  // estimated work of the queries not yet run, group by group
+  // estimated work of the queries not yet run, group by group: the sample's mean cell size each
+  auto estimate = [&](std::size_t g) {
+    return double(sample[g]) / double(split(g) - begin(g)) * double(end(g) - split(g));
+  };
   double remaining = 0;
-  for (std::size_t g = 0; g < groups; ++g)
-    remaining += double(sample[g]) * double(std::min(total, (g + 1) * group) - g * group - 1);
+  for (std::size_t g = 0; g < groups; ++g) remaining += estimate(g);
   auto fraction = [&] {
     const double done = double(visited_total.load());
     return done + remaining > 0 ? done / (done + remaining) : 1.0;
@@ -289,11 +298,9 @@ void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, co
     host_parallel_for(policy, index_t(g1 - g0), [&](index_t t) {
       auto wk = pool.acquire();
       const std::size_t g = g0 + std::size_t(t);
-      const std::size_t e = std::min(total, (g + 1) * group);
-      visited_total += wk->run(queries, g * group + 1, e, voxel_of, laplace, faces, write);
+      visited_total += wk->run(queries, split(g), end(g), voxel_of, laplace, faces, write);
     });
-    for (std::size_t g = g0; g < g1; ++g)
-      remaining -= double(sample[g]) * double(std::min(total, (g + 1) * group) - g * group - 1);
+    for (std::size_t g = g0; g < g1; ++g) remaining -= estimate(g);
     if (g1 == groups) remaining = 0;
     report(opt.progress, fraction());
   }
@@ -308,11 +315,12 @@ void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, co
 }
 
 /**
- * Sibson/Laplace on a host backend: each query is one fused search (fused_padded.hpp where it applies,
- * else fused_query.hpp), run in tasks of queries_per_task on the backend's host threads, with at most
- * memory_budget / fused_worker_budget worker scratches alive. Progress is reported as voxels visited over an estimate of the total: the
- * first query of every group of queries_per_task runs first (a systematic sample), and each group's
- * remaining queries are estimated at its sample's cell size.
+ * Sibson/Laplace on a host backend: sixteen queries per search (fused_lanes.hpp) where it applies and
+ * the budget holds one such worker, else one fused search per query (fused_padded.hpp where it applies,
+ * else fused_query.hpp); run in tasks of consecutive queries on the backend's host threads, with as
+ * many worker scratches alive as memory_budget holds. Progress is reported as voxels visited over an
+ * estimate of the total: the first search of every task runs first (a systematic sample), and each
+ * task's remaining queries are estimated at its sample's mean cell size.
  */
 template <class Policy, class P, class D, class Options, class Write>
 void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, const Options& opt, bool laplace,
@@ -344,7 +352,8 @@ void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, cons
         scratch_pool<fused_lanes_worker<P>> pool((opt.memory_budget - fixed) / each, [&] {
           return std::make_unique<fused_lanes_worker<P>>(nodes, p, g, pw.get());
         });
-        fused_query_loop(policy, opt, laplace, faces, queries, voxel_of, write, pool, fixed);
+        fused_query_loop(policy, opt, laplace, faces, queries, voxel_of, write, pool, fixed,
+                         fused_lanes_worker<P>::queries_per_task, fused_lanes_worker<P>::lanes);
         return;
       }
     }
@@ -355,13 +364,13 @@ void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, cons
     scratch_pool<fused_worker<P, fused_query_padded<P>>> pool((room - std::min(room, g.bytes())) / each, [&] {
       return std::make_unique<fused_worker<P, fused_query_padded<P>>>(nodes, p, g, pw.get());
     });
-    fused_query_loop(policy, opt, laplace, faces, queries, voxel_of, write, pool, shared);
+    fused_query_loop(policy, opt, laplace, faces, queries, voxel_of, write, pool, shared, queries_per_task, 1);
   } else {
     const std::size_t shared = pw ? pw->bytes() : 0;
     scratch_pool<fused_worker<P>> pool((opt.memory_budget - shared) / per_worker, [&] {
       return std::make_unique<fused_worker<P>>(nodes, p, dist, lab, pw.get());
     });
-    fused_query_loop(policy, opt, laplace, faces, queries, voxel_of, write, pool, shared);
+    fused_query_loop(policy, opt, laplace, faces, queries, voxel_of, write, pool, shared, queries_per_task, 1);
   }
 }
 
