@@ -51,10 +51,20 @@ void lanes_case(std::mt19937_64& rng, const P& p, const std::string& what) {
   o.max_nodes_per_voxel = 1 + int(rng() % 8);
   const std::size_t single = sh::fused_worker_budget(p, seeds.size()) +
                              sh::piecewise_tables<P>(gv::seq, p).bytes();
-  // points in any order, some twice: rows of the same voxel must agree with each other and the grid
+  // points in any order, some twice: rows of the same voxel must agree with each other and the grid;
+  // a box of points (clustered: the lanes run them) and scattered ones (the one-query search does)
   std::vector<gv::coord<P::dim>> pts;
-  for (int i = 0; i < 40; ++i) pts.push_back(p.geometry.coords(gv::index_t(rng() % std::uint64_t(p.geometry.size()))));
+  for (gv::index_t v = 0; v < p.geometry.size(); ++v) {
+    const auto c = p.geometry.coords(v);
+    bool in_box = true;
+    for (int a = 0; a < P::dim; ++a) in_box = in_box && c[a] >= 1 && c[a] <= 4;
+    if (in_box) pts.push_back(c);
+  }
+  std::shuffle(pts.begin(), pts.end(), rng);
   pts.push_back(pts[3]);
+  std::vector<gv::coord<P::dim>> scattered;
+  for (int i = 0; i < 12; ++i) scattered.push_back(p.geometry.coords(gv::index_t(rng() % std::uint64_t(p.geometry.size()))));
+  scattered.push_back(scattered[2]);
   for (const auto m : {gv::shape_method::sibson, gv::shape_method::laplace}) {
     INFO(what << " " << method_name(m));
     o.method = m;
@@ -62,21 +72,23 @@ void lanes_case(std::mt19937_64& rng, const P& p, const std::string& what) {
     const bool lanes = sh::uses_fused_lanes<Policy>(p, seeds.size(), o.memory_budget);
     if (lanes) ++lanes_engaged;
     const auto a = gv::shape_functions(GEOVORONOI_SHAPE_POLICY(), p, d, o);
-    const auto at = gv::shape_functions_at(GEOVORONOI_SHAPE_POLICY(), p, d, pts, o);
     o.memory_budget = single;
     REQUIRE_FALSE(sh::uses_fused_lanes<Policy>(p, seeds.size(), o.memory_budget));
     const auto b = gv::shape_functions(GEOVORONOI_SHAPE_POLICY(), p, d, o);
-    const auto bt = gv::shape_functions_at(GEOVORONOI_SHAPE_POLICY(), p, d, pts, o);
     CHECK(a.node == b.node);
     CHECK(std::memcmp(a.weight.data(), b.weight.data(), a.weight.size() * sizeof(a.weight[0])) == 0);
-    CHECK(at.node == bt.node);
-    CHECK(std::memcmp(at.weight.data(), bt.weight.data(), at.weight.size() * sizeof(at.weight[0])) == 0);
+    // rows at points equal the grid's rows, with either budget
     const int k = o.max_nodes_per_voxel;
-    for (std::size_t i = 0; i < pts.size(); ++i)
-      for (int s = 0; s < k; ++s) {
-        const std::size_t v = std::size_t(p.geometry.index(pts[i])) * std::size_t(k) + std::size_t(s);
-        CHECK(at.node[i * std::size_t(k) + std::size_t(s)] == a.node[v]);
-        CHECK(std::memcmp(&at.weight[i * std::size_t(k) + std::size_t(s)], &a.weight[v], sizeof(a.weight[0])) == 0);
+    for (const auto* set : {&pts, &scattered})
+      for (const std::size_t budget : {std::size_t(1) << 30, single}) {
+        o.memory_budget = budget;
+        const auto at = gv::shape_functions_at(GEOVORONOI_SHAPE_POLICY(), p, d, *set, o);
+        for (std::size_t i = 0; i < set->size(); ++i)
+          for (int s = 0; s < k; ++s) {
+            const std::size_t v = std::size_t(p.geometry.index((*set)[i])) * std::size_t(k) + std::size_t(s);
+            CHECK(at.node[i * std::size_t(k) + std::size_t(s)] == a.node[v]);
+            CHECK(std::memcmp(&at.weight[i * std::size_t(k) + std::size_t(s)], &a.weight[v], sizeof(a.weight[0])) == 0);
+          }
       }
   }
 }

@@ -254,6 +254,25 @@ template <class Policy, class P>
 bool uses_fused_lanes(const P&, std::size_t, std::size_t) { return false; }
 #endif
 
+/// Whether queries (rows, voxels voxel_of[row]) in this order are clustered enough for sixteen per
+/// search: at least half of the consecutive pairs are at most 2 voxels apart in every axis. A search
+/// of lanes whose cells do not overlap costs about as much per lane as sixteen searches each, and a
+/// lane of a sparse set (1000 points scattered over a volume) shares almost nothing with its neighbours.
+template <class P>
+bool clustered_queries(const P& p, const std::vector<index_t>& queries, const index_t* voxel_of) {
+  if (queries.size() < 2) return false;
+  std::size_t close = 0;
+  auto prev = p.geometry.coords(voxel_of[queries[0]]);
+  for (std::size_t i = 1; i < queries.size(); ++i) {
+    const auto c = p.geometry.coords(voxel_of[queries[i]]);
+    index_t far = 0;
+    for (int a = 0; a < P::dim; ++a) far = std::max(far, c[a] > prev[a] ? c[a] - prev[a] : prev[a] - c[a]);
+    close += far <= 2;
+    prev = c;
+  }
+  return 2 * close >= queries.size() - 1;
+}
+
 /// The query loop of fused_natural_neighbours over a pool of workers (either search), in tasks of
 /// @p group consecutive queries whose first @p sampled run first (the progress estimate's sample).
 template <class Policy, class Options, class Face, class Write, class Pool>
@@ -325,8 +344,9 @@ void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, co
 template <class Policy, class P, class D, class Options, class Write>
 void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, const Options& opt, bool laplace,
                               std::size_t nodes, const std::vector<index_t>& queries, const index_t* voxel_of,
-                              Write&& write) {
+                              bool lanes, Write&& write) {
   using T = typename P::value_type;
+  (void)lanes;  // without SSE there is only the one-query search
   const auto faces = faces_of(p);
   const std::size_t per_worker = fused_worker_budget(p, nodes);
   if (opt.memory_budget < per_worker)
@@ -348,7 +368,7 @@ void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, cons
       // sixteen queries per search (fused_lanes.hpp) where the budget holds one such worker
       const std::size_t each = fused_lanes_worker_bytes(p, nodes);
       const std::size_t fixed = (pw ? pw->bytes() : 0) + g.bytes();
-      if (opt.memory_budget >= fixed + each) {
+      if (lanes && opt.memory_budget >= fixed + each) {
         scratch_pool<fused_lanes_worker<P>> pool((opt.memory_budget - fixed) / each, [&] {
           return std::make_unique<fused_lanes_worker<P>>(nodes, p, g, pw.get());
         });
@@ -410,7 +430,8 @@ void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const 
   // row is computed on its own, so the order changes no result.
   // The sixteen-lane search wants Morton order always: its lanes are then a 4x2x2 block of voxels, not
   // a row of 16, and their cells overlap far more.
-  if (uses_fused_lanes<Policy>(p, nodes, opt.memory_budget) ||
+  const bool lanes_fit = uses_fused_lanes<Policy>(p, nodes, opt.memory_budget);
+  if (lanes_fit ||
       !std::is_sorted(queries.begin(), queries.end(), [&](index_t a, index_t b) { return voxel_of[a] < voxel_of[b]; })) {
     std::vector<std::pair<std::uint64_t, index_t>> order;
     order.reserve(queries.size());
@@ -418,6 +439,8 @@ void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const 
     std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
     for (std::size_t i = 0; i < order.size(); ++i) queries[i] = order[i].second;
   }
+  const bool lanes = lanes_fit && clustered_queries(p, queries, voxel_of);
+  (void)lanes;  // used by host backends only
   const std::size_t total = queries.size();
   auto write = [&](index_t row, query_scratch<T>& s, bool any_facet) {
     finish_weights(p, faces, laplace, any_facet, s.acc, s.cand);
@@ -451,7 +474,7 @@ void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const 
     }
     if (opt.stats) opt.stats->queries = total;
   } else if constexpr (queries_on_host<Policy>::value) {
-    if (total > 0) fused_natural_neighbours(policy, p, d, opt, laplace, nodes, queries, voxel_of, write);
+    if (total > 0) fused_natural_neighbours(policy, p, d, opt, laplace, nodes, queries, voxel_of, lanes, write);
   } else {
     // a device backend: batches of materialised cells, as many queries per batch as the memory budget
     // allows at the cell sizes seen so far
