@@ -2,8 +2,8 @@
 // (detail/shape/fused_padded.hpp) against the brute-force definition on connectivities and metrics the
 // other cases leave out, on grids of a few voxels per axis (most voxels lie on the border, where the
 // padding stands in for the bounds checks), with a user metric (which keeps the negative-weight check)
-// and with a metric that returns a negative weight; and the sixteen-lane search (fused_lanes.hpp)
-// against the one-query search, bit for bit.
+// and with a metric that returns a negative weight; and the sixteen-lane search (fused_lanes.hpp, its
+// AVX-512 and SSE2 forms) against the one-query search, bit for bit.
 
 namespace gvshape {
 
@@ -72,6 +72,16 @@ void lanes_case(std::mt19937_64& rng, const P& p, const std::string& what) {
     const bool lanes = sh::uses_fused_lanes<Policy>(p, seeds.size(), o.memory_budget);
     if (lanes) ++lanes_engaged;
     const auto a = gv::shape_functions(GEOVORONOI_SHAPE_POLICY(), p, d, o);
+#ifdef GEOVORONOI_FUSED_LANES
+    {
+      // the SSE2 lanes (the default is AVX-512 where the CPU has it)
+      sh::lanes_avx512_switch() = false;
+      const auto narrow = gv::shape_functions(GEOVORONOI_SHAPE_POLICY(), p, d, o);
+      sh::lanes_avx512_switch() = true;
+      CHECK(a.node == narrow.node);
+      CHECK(std::memcmp(a.weight.data(), narrow.weight.data(), a.weight.size() * sizeof(a.weight[0])) == 0);
+    }
+#endif
     o.memory_budget = single;
     REQUIRE_FALSE(sh::uses_fused_lanes<Policy>(p, seeds.size(), o.memory_budget));
     const auto b = gv::shape_functions(GEOVORONOI_SHAPE_POLICY(), p, d, o);

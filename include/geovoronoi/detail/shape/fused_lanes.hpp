@@ -6,8 +6,9 @@
 // Why: the cells of neighbouring queries overlap almost entirely (on the steak phantom the union of
 // 16 queries in a 4x2x2 block of voxels is 1.4-1.6 times one cell), and the expensive part of a search
 // -- the heap, loading the 26 neighbours, their field values and the edge weights -- does not depend on
-// the query. So each voxel carries 16 keys, one per query, and one settle relaxes all of them with a few
-// SSE operations per neighbour.
+// the query. So each voxel carries 16 keys, one per query (one 64-byte cache line), and one settle
+// relaxes all of them with one AVX-512 register per neighbour where the CPU has it (chosen at run
+// time), else four SSE2 registers.
 //
 // Why the results are bit for bit those of sixteen single searches. For one lane (query q), the single
 // search's keys end at the greatest solution, below the initial keys, of
@@ -19,8 +20,8 @@
 // relaxation improves, i.e. a solution). Here a lane takes part in a voxel's relaxation only while
 // that voxel is in its cell (inactive lanes add +inf), so each lane runs exactly its own system; only
 // the order is shared. Each lane's relaxation is the scalar expression: the weight is computed once
-// per edge (the same SSE lanes as fused_padded.hpp) and added to each lane's key by SSE additions,
-// which round like the scalar ones. Counting owners, cell sizes and facets reads the final keys, so
+// per edge (the same SSE lanes as fused_padded.hpp) and added to each lane's key by SSE or AVX-512
+// additions, which round like the scalar ones. Counting owners, cell sizes and facets reads the final keys, so
 // order does not enter the weights either.
 //
 // Order. A voxel is queued at the smallest key that improved, and processed (all its lanes relaxed)
@@ -46,16 +47,35 @@
 #include <geovoronoi/detail/shape/piecewise.hpp>
 #include <geovoronoi/metric.hpp>
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <type_traits>
 #include <vector>
 
+#if defined(__SSE2__) && !defined(__CUDA_ARCH__) && defined(__x86_64__) && !defined(__CUDACC__)
+#include <immintrin.h>
+#endif
+
 namespace geovoronoi::detail::shape {
 
 #if defined(__SSE2__) && !defined(__CUDA_ARCH__)
 #define GEOVORONOI_FUSED_LANES 1
+
+// AVX-512 for the lanes where the CPU has it, chosen at run time (the library is compiled for plain
+// x86-64): GCC and Clang on x86-64, not under nvcc (its front end is kept away from the target attribute).
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(__CUDACC__) && !defined(__NVCOMPILER)
+#define GEOVORONOI_LANES_AVX512 1
+#endif
+
+/// Whether the sixteen-lane search may use AVX-512 where the CPU has it (on by default). The tests turn
+/// it off to check the SSE2 search against it; set it before a call, not during one.
+inline std::atomic<bool>& lanes_avx512_switch() noexcept {
+  static std::atomic<bool> on{true};
+  return on;
+}
+inline bool lanes_avx512_enabled() noexcept { return lanes_avx512_switch().load(std::memory_order_relaxed); }
 
 /// Whether the sixteen-lane search applies to problem type P: float and a built-in metric (weights on
 /// SSE lanes; >= 0 or NaN between inside voxels).
@@ -83,6 +103,10 @@ class fused_lanes_padded {
 
   fused_lanes_padded(const P& p, const padded_grid<P>& g, const piecewise_tables<P>* pw = nullptr)
       : p_(p), g_(g), pw_(pw), key_(g.size()), field_(g.size(), T(0)), pend_(g.size(), untouched) {
+    for (int k = 0; k < KV; ++k) delta_[k] = k < K ? g.delta()[k] : 0, len_[k] = k < K ? g.length()[k] : T(0);
+#ifdef GEOVORONOI_LANES_AVX512
+    wide_ = lanes_avx512_enabled() && __builtin_cpu_supports("avx512f");
+#endif
     const auto* in = g.data();
     for (std::size_t w = 0; w < key_.size(); ++w) fill(key_[w], in[w].bound);
     for (index_t z = 0; z < g.extent(2); ++z)
@@ -175,46 +199,67 @@ class fused_lanes_padded {
     queue(q, T(0), live);
   }
 
-  void search(accumulators* const* acc, std::size_t* visited, std::size_t& live) {
-    index_t delta[KV];
-    T len[KV];
-    for (int k = 0; k < KV; ++k) delta[k] = k < K ? g_.delta()[k] : 0, len[k] = k < K ? g_.length()[k] : T(0);
+  /**
+   * Pops the next live entry into @p v and computes the weights of its edges into @p w (four
+   * neighbours at a time: the metric's scalar expression on SSE lanes); false when the queue is empty.
+   */
+  bool next(std::uint32_t& v, T* w, std::size_t& live) {
     using W = sse_weight<typename P::metric_type>;
-    const auto* in = g_.data();
-    block* key = key_.data();
-    const T* fld = field_.data();
-    T* pend = pend_.data();
-    const __m128 inf = _mm_set1_ps(std::numeric_limits<T>::infinity());
-    while (!heap_.empty()) {
+    for (;;) {
+      if (heap_.empty()) return false;
       const auto it = heap_.pop();
       --live;
-      const std::uint32_t v = it.voxel;
-      if (pend[v] != heap_type::value(it.key)) continue;  // stale: queued lower since, or processed
-      pend[v] = idle;
+      v = it.voxel;
+      if (pend_[v] == heap_type::value(it.key)) break;  // else stale: queued lower since, or processed
+    }
+    pend_[v] = idle;
+    const T* fld = field_.data();
+    const __m128 fv = _mm_set1_ps(fld[v]);
+    for (int k = 0; k < KV; k += 4) {
+      const __m128 fu = _mm_set_ps(fld[v + delta_[k + 3]], fld[v + delta_[k + 2]], fld[v + delta_[k + 1]], fld[v + delta_[k]]);
+      _mm_storeu_ps(w + k, W::apply(_mm_loadu_ps(len_ + k), fv, fu));
+    }
+    return true;
+  }
+  /// Neighbour u improved in some lanes, the least improved key @p m; the lanes in @p fresh entered
+  /// u's cell just now (owner and cell size counted); u is queued at m.
+  void improved(accumulators* const* acc, std::size_t* visited, std::uint32_t u, unsigned fresh, T m,
+                std::size_t& live) {
+    const label_t owner = g_.data()[u].label;
+    while (fresh) {
+      const int j = __builtin_ctz(fresh);
+      fresh &= fresh - 1;
+      enter(*acc[j], visited[j], owner);
+    }
+    queue(u, m, live);
+  }
+  cut_mask_t cut_of(std::uint32_t v) const noexcept {
+    if constexpr (P::has_cuts) return g_.cut_mask(index_t(v));
+    return 0;
+  }
+
+  void search(accumulators* const* acc, std::size_t* visited, std::size_t& live) {
+#ifdef GEOVORONOI_LANES_AVX512
+    if (wide_) return search_avx512(acc, visited, live);
+#endif
+    const auto* in = g_.data();
+    block* key = key_.data();
+    const __m128 inf = _mm_set1_ps(std::numeric_limits<T>::infinity());
+    std::uint32_t v;
+    T w[KV];
+    while (next(v, w, live)) {
       // the lanes of v that are in their cells; the others add +inf, which improves nothing
       __m128 kv[NV];
-      {
-        const __m128 bv = _mm_set1_ps(in[v].bound);
-        for (int i = 0; i < NV; ++i) {
-          const __m128 a = _mm_load_ps(key[v].k + 4 * i);
-          const __m128 act = _mm_cmplt_ps(a, bv);
-          kv[i] = _mm_or_ps(_mm_and_ps(act, a), _mm_andnot_ps(act, inf));
-        }
+      const __m128 bv = _mm_set1_ps(in[v].bound);
+      for (int i = 0; i < NV; ++i) {
+        const __m128 a = _mm_load_ps(key[v].k + 4 * i);
+        const __m128 act = _mm_cmplt_ps(a, bv);
+        kv[i] = _mm_or_ps(_mm_and_ps(act, a), _mm_andnot_ps(act, inf));
       }
-      // the edge weights, four neighbours at a time (the metric's scalar expression on SSE lanes)
-      T w[KV];
-      {
-        const __m128 fv = _mm_set1_ps(fld[v]);
-        for (int k = 0; k < KV; k += 4) {
-          const __m128 fu = _mm_set_ps(fld[v + delta[k + 3]], fld[v + delta[k + 2]], fld[v + delta[k + 1]], fld[v + delta[k]]);
-          _mm_storeu_ps(w + k, W::apply(_mm_loadu_ps(len + k), fv, fu));
-        }
-      }
-      cut_mask_t cut = 0;  // directions not to relax
-      if constexpr (P::has_cuts) cut = g_.cut_mask(index_t(v));
+      const cut_mask_t cut = cut_of(v);  // directions not to relax
       for (int k = 0; k < K; ++k) {
         if ((cut >> k) & 1u) continue;
-        const std::uint32_t u = std::uint32_t(index_t(v) + delta[k]);
+        const std::uint32_t u = std::uint32_t(index_t(v) + delta_[k]);
         T* ku = key[u].k;
         const __m128 wk = _mm_set1_ps(w[k]);
         __m128 c[NV], lt[NV];
@@ -229,8 +274,7 @@ class fused_lanes_padded {
         }
         if (!any) continue;
         // store the improved lanes; note those entering u's cell now; queue u at the least improved key
-        const auto& iu = in[u];
-        const __m128 bu = _mm_set1_ps(iu.bound);
+        const __m128 bu = _mm_set1_ps(in[u].bound);
         __m128 m = inf;
         unsigned fresh = 0;
         for (int i = 0; i < NV; ++i) {
@@ -241,15 +285,51 @@ class fused_lanes_padded {
         }
         m = _mm_min_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
         m = _mm_min_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
-        while (fresh) {
-          const int j = __builtin_ctz(fresh);
-          fresh &= fresh - 1;
-          enter(*acc[j], visited[j], iu.label);
-        }
-        queue(u, _mm_cvtss_f32(m), live);
+        improved(acc, visited, u, fresh, _mm_cvtss_f32(m), live);
       }
     }
   }
+
+#ifdef GEOVORONOI_LANES_AVX512
+  /// The least of 16 floats (none NaN). Written with the masked forms, whose pass-through operand is
+  /// given: GCC 12's unmasked ones (and _mm512_mask_reduce_min_ps) pass an undefined vector that
+  /// -Wmaybe-uninitialized reports.
+  __attribute__((target("avx512f"))) static T least(__m512 x) noexcept {
+    constexpr __mmask16 all = 0xFFFF;
+    x = _mm512_mask_min_ps(x, all, x, _mm512_mask_shuffle_f32x4(x, all, x, x, _MM_SHUFFLE(1, 0, 3, 2)));
+    x = _mm512_mask_min_ps(x, all, x, _mm512_mask_shuffle_f32x4(x, all, x, x, _MM_SHUFFLE(2, 3, 0, 1)));
+    x = _mm512_mask_min_ps(x, all, x, _mm512_mask_shuffle_ps(x, all, x, x, _MM_SHUFFLE(1, 0, 3, 2)));
+    x = _mm512_mask_min_ps(x, all, x, _mm512_mask_shuffle_ps(x, all, x, x, _MM_SHUFFLE(2, 3, 0, 1)));
+    return _mm512_cvtss_f32(x);
+  }
+  /// The same search with a voxel's 16 keys in one AVX-512 register: the same per-lane IEEE operations
+  /// and tests, masks instead of blends.
+  __attribute__((target("avx512f"))) void search_avx512(accumulators* const* acc, std::size_t* visited,
+                                                        std::size_t& live) {
+    const auto* in = g_.data();
+    block* key = key_.data();
+    const __m512 inf = _mm512_set1_ps(std::numeric_limits<T>::infinity());
+    std::uint32_t v;
+    T w[KV];
+    while (next(v, w, live)) {
+      const __m512 a = _mm512_load_ps(key[v].k);
+      const __m512 kv = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(a, _mm512_set1_ps(in[v].bound), _CMP_LT_OQ), inf, a);
+      const cut_mask_t cut = cut_of(v);
+      for (int k = 0; k < K; ++k) {
+        if ((cut >> k) & 1u) continue;
+        const std::uint32_t u = std::uint32_t(index_t(v) + delta_[k]);
+        T* ku = key[u].k;
+        const __m512 old = _mm512_load_ps(ku);
+        const __m512 c = _mm512_add_ps(kv, _mm512_set1_ps(w[k]));
+        const __mmask16 lt = __mmask16(_mm512_cmp_ps_mask(kv, old, _CMP_LT_OQ) & _mm512_cmp_ps_mask(c, old, _CMP_LT_OQ));
+        if (!lt) continue;
+        const unsigned fresh = unsigned(lt) & ~unsigned(_mm512_cmp_ps_mask(old, _mm512_set1_ps(in[u].bound), _CMP_LT_OQ));
+        _mm512_mask_store_ps(ku, lt, c);
+        improved(acc, visited, u, fresh, least(_mm512_mask_mov_ps(inf, lt, c)), live);
+      }
+    }
+  }
+#endif
 
   /// Laplace's facet pairs of every lane, as fused_query_padded::facets does for one.
   void facets(int n, const std::vector<face<P::dim>>& faces, accumulators* const* acc, bool* any_facet) const {
@@ -314,6 +394,10 @@ class fused_lanes_padded {
   std::vector<std::uint32_t> touched_;
   heap_type heap_;
   std::size_t heap_peak_ = 0;
+  // the stencil rounded up to a multiple of 4 entries: the extra ones point at v itself with length 0
+  index_t delta_[KV];
+  T len_[KV];
+  bool wide_ = false;  // AVX-512 search
 };
 
 #else
