@@ -333,47 +333,30 @@ class fused_lanes_padded {
 
   /// Laplace's facet pairs of every lane, as fused_query_padded::facets does for one.
   void facets(int n, const std::vector<face<P::dim>>& faces, accumulators* const* acc, bool* any_facet) const {
-    constexpr int F = 2 * P::dim;
-    index_t fdelta[F];
-    int fedge[F], faxis[F];
-    for (int i = 0; i < F; ++i) {
-      const auto& f = faces[std::size_t(i)];
-      fdelta[i] = g_.padded_delta(f.axis, f.dir);
-      fedge[i] = f.edge;
-      faxis[i] = f.axis;
-    }
+    const auto ft = g_.padded_faces(faces);
     const auto* in = g_.data();
-    const T* dist = g_.dist();
     const unsigned all = n >= 32 ? ~0u : (1u << n) - 1u;
     for (std::uint32_t v : touched_) {
       const unsigned cell_v = members(v, in[v].bound) & all;
       if (!cell_v) continue;
       const T fv = field_[v];
-      cut_mask_t cut = 0;  // a cut face is no facet
-      if constexpr (P::has_cuts) cut = g_.cut_mask(index_t(v));
-      for (int i = 0; i < F; ++i) {
-        if ((cut >> fedge[i]) & 1u) continue;
-        const index_t w = index_t(v) + fdelta[i];
-        const label_t k = in[w].label;  // no_label: padding (off the grid), outside, or unreached
-        if (k == no_label) continue;
-        const T bw = in[w].bound;
+      g_.for_each_labelled_face(v, ft, [&](int i, index_t w, label_t k, T bw) {
         unsigned pair = cell_v & ~members(std::uint32_t(w), bw);  // lanes with v in the cell and w not
-        if (!pair) continue;
-        const T cvw = p_.metric(p_.edges.length[fedge[i]], fv, field_[std::size_t(w)]);
-        // the diagram's distance of w: the bound where it is > 0 (then they are equal), else read
-        const T dw = bw > T(0) ? bw : dist[g_.unpad(w)];
+        if (!pair) return;
+        const T cvw = p_.metric(p_.edges.length[ft.edge[i]], fv, field_[std::size_t(w)]);
+        const T dw = g_.diagram_distance(w, bw);
         while (pair) {
           const int j = __builtin_ctz(pair);
           pair &= pair - 1;
           accumulators& a = *acc[j];
           a.touch(k);
-          ++a.faces[k][faxis[i]];
+          ++a.faces[k][ft.axis[i]];
           any_facet[j] = true;
           T h = key_[v].k[j] + cvw;
           h = h + dw;
           if (double(h) < a.h[k]) a.h[k] = double(h);
         }
-      }
+      });
     }
   }
   /// Bit j set where lane j of padded voxel v is in its cell.

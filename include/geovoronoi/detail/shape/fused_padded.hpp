@@ -218,6 +218,40 @@ class padded_grid {
     const index_t s = a == 0 ? 1 : a == 1 ? px_ : px_ * py_;
     return dir * s;
   }
+  /// The 2*Dim face neighbours of a voxel on the padded layout: linear offset, stencil edge, axis.
+  struct face_table {
+    index_t delta[2 * dim];
+    int edge[2 * dim];
+    int axis[2 * dim];
+  };
+  template <class Face>
+  face_table padded_faces(const std::vector<Face>& faces) const {
+    face_table t{};
+    for (int i = 0; i < 2 * dim; ++i) {
+      const auto& f = faces[std::size_t(i)];
+      t.delta[i] = padded_delta(f.axis, f.dir);
+      t.edge[i] = f.edge;
+      t.axis[i] = f.axis;
+    }
+    return t;
+  }
+  /// Calls f(i, w, k, bw) for each face i (of table @p ft) of padded voxel v that is not cut and whose
+  /// neighbour w is in the domain with a label: label k, bound bw. A Laplace facet's candidates.
+  template <class F>
+  void for_each_labelled_face(std::uint32_t v, const face_table& ft, F&& f) const {
+    cut_mask_t cut = 0;  // a cut face is no facet
+    if constexpr (P::has_cuts) cut = cut_mask(index_t(v));
+    for (int i = 0; i < 2 * dim; ++i) {
+      if ((cut >> ft.edge[i]) & 1u) continue;
+      const index_t w = index_t(v) + ft.delta[i];
+      const label_t k = info_[std::size_t(w)].label;  // no_label: padding (off the grid), outside, or unreached
+      if (k == no_label) continue;
+      f(i, w, k, info_[std::size_t(w)].bound);
+    }
+  }
+  /// The diagram's distance of padded voxel w whose bound is @p bw: the bound where it is > 0 (then
+  /// they are equal), else read.
+  T diagram_distance(index_t w, T bw) const noexcept { return bw > T(0) ? bw : dist_[unpad(w)]; }
   const index_t* delta() const noexcept { return delta_; }
   const T* length() const noexcept { return length_; }
   const T* dist() const noexcept { return dist_; }
@@ -422,40 +456,22 @@ class fused_query_padded {
   }
 
   bool facets(const std::vector<face<P::dim>>& faces, accumulators& acc) const {
-    constexpr int F = 2 * P::dim;
-    index_t fdelta[F];
-    int fedge[F], faxis[F];
-    for (int i = 0; i < F; ++i) {
-      const auto& f = faces[std::size_t(i)];
-      fdelta[i] = g_.padded_delta(f.axis, f.dir);
-      fedge[i] = f.edge;
-      faxis[i] = f.axis;
-    }
+    const auto ft = g_.padded_faces(faces);
     bool any_facet = false;
     const slot* key = key_.data();
-    const auto* in = g_.data();
-    const T* dist = g_.dist();
     for (std::uint32_t v : cell_) {
       const T fv = key[v].field;
       const T dq = key[v].key;
-      cut_mask_t cut = 0;  // a cut face is no facet
-      if constexpr (P::has_cuts) cut = g_.cut_mask(index_t(v));
-      for (int i = 0; i < F; ++i) {
-        if ((cut >> fedge[i]) & 1u) continue;
-        const index_t w = index_t(v) + fdelta[i];
-        const label_t k = in[w].label;  // no_label: padding (off the grid), outside, or unreached
-        if (k == no_label) continue;
-        const T bw = in[w].bound;
-        if (key[w].key < bw) continue;  // w is in the cell too
+      g_.for_each_labelled_face(v, ft, [&](int i, index_t w, label_t k, T bw) {
+        if (key[w].key < bw) return;  // w is in the cell too
         acc.touch(k);
-        ++acc.faces[k][faxis[i]];
+        ++acc.faces[k][ft.axis[i]];
         any_facet = true;
-        const T cvw = p_.metric(p_.edges.length[fedge[i]], fv, key[w].field);
+        const T cvw = p_.metric(p_.edges.length[ft.edge[i]], fv, key[w].field);
         T h = dq + cvw;
-        // the diagram's distance of w: the bound where it is > 0 (then they are equal), else read
-        h = h + (bw > T(0) ? bw : dist[g_.unpad(w)]);
+        h = h + g_.diagram_distance(w, bw);
         if (double(h) < acc.h[k]) acc.h[k] = double(h);
-      }
+      });
     }
     return any_facet;
   }
