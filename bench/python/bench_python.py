@@ -5,9 +5,13 @@
    (geovoronoi::voronoi, timed inside the extension around the library call alone), 128^3 gradient,
    10 seeds, min_stiffness, 26-connectivity; median of --repeat runs per backend;
 2. against scikit-image's MCP_Geometric (mean_cost metric, 26 neighbours: the same graph problem) and
-   SciPy's csgraph.dijkstra(min_only=True) (min_stiffness graph, 26 neighbours), in the same run.
+   SciPy's csgraph.dijkstra(min_only=True) (min_stiffness graph, 26 neighbours), in the same run;
+3. the GIL released: two seq solves in two Python threads against the same two solves in turn (wall
+   time ratio, best and median of --repeat; process CPU over wall shows the overlap). This is the
+   timing half of test_threads.py's side-by-side test, which checks the results bit for bit and
+   asserts no time: timing belongs here, on a quiet machine, not in a unit test.
 
-Usage: python bench/python/bench_python.py [--n 128] [--repeat 5] [--skip-baselines]
+Usage: python bench/python/bench_python.py [--n 128] [--repeat 5] [--skip-baselines] [--skip-threads]
 (with the package installed, e.g. build-python/venv/bin/python after scripts/test-python.sh).
 """
 
@@ -15,6 +19,7 @@ import argparse
 import itertools
 import os
 import statistics
+import threading
 import time
 
 import numpy as np
@@ -54,11 +59,38 @@ def csgraph_problem(field, metric="min_stiffness"):
     return scipy.sparse.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
 
 
+def two_threads(field, seeds, repeat):
+    print("\n## two seq solves: two Python threads against one after the other (wall time), repeat", repeat)
+
+    def one():
+        gv.voronoi(field, seeds, backend="seq")
+
+    ratios, loads = [], []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        one()
+        one()
+        serial = time.perf_counter() - t0
+        threads = [threading.Thread(target=one) for _ in range(2)]
+        t0, c0 = time.perf_counter(), time.process_time()
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        ratios.append(wall / serial)
+        loads.append(cpu / wall)
+        print(f"in turn {serial:.3f} s, two threads {wall:.3f} s: ratio {wall / serial:.2f}, CPU/wall {cpu / wall:.2f}")
+    print(f"two threads / in turn: best {min(ratios):.2f}, median {statistics.median(ratios):.2f} "
+          f"(1.0 = no overlap, 0.5 = perfect on two cores); load average now {os.getloadavg()[0]:.2f}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", type=int, default=128)
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--skip-baselines", action="store_true")
+    ap.add_argument("--skip-threads", action="store_true")
     a = ap.parse_args()
     field, seeds = gradient(a.n), seeds_for(a.n)
     print(f"# {a.n}^3 gradient, {len(seeds)} seeds, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
@@ -78,6 +110,8 @@ def main():
         print(f"{backend:7s} python {mp:.3f} s  C++ call {mc:.3f} s  overhead median {100 * statistics.median(over):.2f} %"
               f"  (max {100 * max(over):.2f} %, absolute {1000 * statistics.median([p - c for p, c in zip(py, core)]):.2f} ms)")
 
+    if not a.skip_threads:
+        two_threads(field, seeds, a.repeat)
     if a.skip_baselines:
         return
     print("\n## against scikit-image MCP_Geometric and SciPy csgraph.dijkstra (one run each)")
