@@ -19,10 +19,10 @@ def big_problem(n=80):
     return field, np.unique(seeds, axis=0)
 
 
-def long_shape_problem():
+def long_shape_problem(n=20):
     rng = np.random.default_rng(5)
-    field = rng.uniform(1.0, 10.0, (20, 24, 24)).astype(np.float32)
-    seeds = np.unique(rng.integers(0, 20, (8, 3)), axis=0)
+    field = rng.uniform(1.0, 10.0, (n, n + 4, n + 4)).astype(np.float32)
+    seeds = np.unique(rng.integers(0, n, (8, 3)), axis=0)
     return field, seeds
 
 
@@ -104,18 +104,31 @@ def sigint_raises():
 
 @pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals need the main thread")
 def test_ctrl_c_cancels_a_long_computation(sigint_raises):
-    """SIGINT (what Ctrl-C sends), from another process, during a computation that would take ~30 s:
-    the next progress report runs Python's signal handler and cancels it."""
-    field, seeds = long_shape_problem()
-    seen = []
-    t0 = time.perf_counter()
-    killer = subprocess.Popen(["sh", "-c", f"sleep 1; kill -INT {os.getpid()}"])
+    """SIGINT (what Ctrl-C sends), from another process, while the library computes: the next progress
+    report runs Python's signal handler and cancels. The signal is sent once the computation has
+    reported progress (it has started), whatever the machine's speed; run to its end the problem takes
+    seconds (Sibson, 40x44x44), far longer than starting `kill`."""
+    field, seeds = long_shape_problem(40)
+    seen, killers = [], []
+
+    def progress(x):
+        seen.append(x)
+        if not killers:  # from another process, not raised here: the library is computing when it lands
+            killers.append(subprocess.Popen(["kill", "-INT", str(os.getpid())]))
+
+    interrupted = False
     try:
-        with pytest.raises(KeyboardInterrupt):
-            gv.shape_functions(field, seeds, method="sibson", backend="seq", batch_size=32, progress=seen.append)
+        gv.shape_functions(field, seeds, method="sibson", backend="seq", batch_size=32, progress=progress)
+    except KeyboardInterrupt:
+        interrupted = True
     finally:
-        killer.wait()
-    assert sum(seen) < 100.0, f"the computation ran to the end ({time.perf_counter() - t0:.1f} s)"
+        for k in killers:
+            try:
+                k.wait()
+            except KeyboardInterrupt:  # it landed after the computation: the assertions below say so
+                pass
+    assert killers, "no progress was reported"
+    assert interrupted and sum(seen) < 100.0, f"the computation ran to the end ({sum(seen):.0f} % reported)"
     assert gv.voronoi(field, seeds, backend="seq").distance.dtype == np.float32
 
 
