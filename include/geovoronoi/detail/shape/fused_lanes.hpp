@@ -33,7 +33,7 @@
 //
 // Counting while searching. A lane enters a voxel's cell at most once (its key drops below the bound
 // for good), so the owner's volume and the lane's cell size are counted at that moment, from the data
-// already in registers; no pass over the cell re-reads the keys (that pass cost a quarter of the time).
+// already in registers; no pass over the cell re-reads the keys from memory after the search.
 // Laplace's facets need the final keys, so they are counted in a pass after the search.
 //
 // Exact balls (piecewise.hpp): each lane seeds its query's ball as the single search does. A lane's
@@ -170,7 +170,7 @@ class fused_lanes_padded {
       if (++live > heap_peak_) heap_peak_ = live;
     }
   }
-  /// Lane j's cell gains padded voxel v (owner counted, cell size).
+  /// A lane's cell gains a voxel owned by @p owner: its volume and the cell size counted.
   void enter(accumulators& acc, std::size_t& visited, label_t owner) {
     ++visited;
     if (owner >= 0) acc.touch(owner), ++acc.volume[owner];

@@ -138,6 +138,10 @@ struct query_scratch {
   std::vector<unsigned char> mask;
   cell_members<T> members;
   explicit query_scratch(std::size_t nodes) : acc(nodes) {}
+  /// Bytes of the per-node accumulators (volume, faces, h, seen, touched).
+  std::size_t accumulator_bytes() const noexcept {
+    return acc.volume.capacity() * (sizeof(std::int64_t) * 4 + sizeof(double) + 1 + sizeof(label_t));
+  }
 };
 
 /// Queries per task of the host-parallel loops: enough to amortise a task's scratch, few enough to
@@ -154,7 +158,7 @@ struct fused_worker {
   template <class... A>
   fused_worker(std::size_t nodes, A&&... a) : search(std::forward<A>(a)...), s(nodes) {}
   std::size_t bytes() const noexcept {
-    return search.bytes() + s.acc.volume.capacity() * (sizeof(std::int64_t) * 4 + sizeof(double) + 1 + sizeof(label_t));
+    return search.bytes() + s.accumulator_bytes();
   }
   /// Runs queries[b, e), one search each, writing each row; returns the voxels visited.
   template <class Face, class Write>
@@ -186,8 +190,7 @@ struct fused_lanes_worker {
   fused_lanes_worker(std::size_t nodes, const P& p, const padded_grid<P>& g, const piecewise_tables<P>* pw)
       : search(p, g, pw), s(std::size_t(lanes), query_scratch<typename P::value_type>(nodes)) {}
   std::size_t bytes() const noexcept {
-    return search.bytes() +
-           lanes * s[0].acc.volume.capacity() * (sizeof(std::int64_t) * 4 + sizeof(double) + 1 + sizeof(label_t));
+    return search.bytes() + lanes * s[0].accumulator_bytes();
   }
   template <class Face, class Write>
   std::size_t run(const std::vector<index_t>& queries, std::size_t b, std::size_t e, const index_t* voxel_of,
