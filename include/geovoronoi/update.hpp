@@ -136,11 +136,12 @@ index_t parent_of(const P& p, const stencil_walker<P::dim>& walk, const D& d, in
   index_t best = no_index;
   const T dv = d.distance[v];
   walk.for_each_neighbour(p, v, [&](int k, index_t u) {
-    // a realiser carries v's label and, weights being >= 0, is no farther than v: test that first
-    if (d.label[u] != l || !(d.distance[u] <= dv)) return;
+    // a realiser carries v's label and, weights being >= 0, is no farther than v: test that first;
+    // neighbours come in increasing index order, so the first realiser is the lowest-index one
+    if (best != no_index || d.label[u] != l || !(d.distance[u] <= dv)) return;
     const T w = p.metric(p.edges.length[k], p.field[u], fv);
     const T nd = d.distance[u] + w;
-    if (kt::make(nd, d.label[u]) == target && (best == no_index || u < best)) best = u;
+    if (kt::make(nd, d.label[u]) == target) best = u;
   });
   return best;
 }
@@ -279,7 +280,8 @@ std::size_t settle(const P& after, diagram<typename P::value_type, P::dim>& d, r
       const label_t lu = d.label[u];
       const T du = d.distance[u];
       if (lu == l && du <= dv) {  // no larger key: nothing to relax; a realiser if u + w(u -> v) gives v's key
-        if (!source && (best == no_index || u < best) &&
+        // (the walker visits neighbours in increasing index order: the first realiser is the parent)
+        if (!source && best == no_index &&
             kt::make(du + after.metric(after.edges.length[k], after.field[u], fv), l) == it.key)
           best = u;
         return;

@@ -373,15 +373,15 @@ def _cut(args, field, spacing, origin, orientation, seeds, lines, cut, threads, 
         t_full = time.perf_counter() - t0
         t0 = time.perf_counter()
         w_after, st = gv.update_shape_functions(w_before, before, upd, after_field, cut=cut, carved=carve,
-                                                backend="seq", stats=True, **sf)
+                                                backend=backend, threads=threads, stats=True, **sf)
         t_update = time.perf_counter() - t0
         _require_same_weights(w_after, w_full)
         changed_w = ((w_before[1] != w_after[1]) | (_bits(w_before[2]) != _bits(w_after[2]))).any(axis=-1)
         weights = (w_before, w_after, changed_w.astype(np.uint8))
         full_note = " (all: no smaller set is proven)" if st["full"] else ""
-        print(f"  weights update     {t_update:9.4f} s  ({name}, library update_shape_functions(), host; "
-              f"{st['recomputed']} of {st['rows']} rows recomputed{full_note}, {int(np.count_nonzero(changed_w))} "
-              "changed)")
+        print(f"  weights update     {t_update:9.4f} s  ({name}, library update_shape_functions() on backend "
+              f"{backend}; {st['recomputed']} of {st['rows']} rows recomputed{full_note}, "
+              f"{int(np.count_nonzero(changed_w))} changed)")
         print(f"  weights recompute  {t_full:9.4f} s  ({name}, shape_functions() on backend {backend})  "
               f"{t_full / t_update if t_update > 0 else 0.0:.1f}x; identical bit for bit (node and weight of every "
               "slot)", flush=True)

@@ -333,7 +333,7 @@ def test_cut_equals_the_api(job):
         a, *_ = gv.read_image(tmp / "py" / "after" / name)
         differ |= (b != a).any(axis=-1)
     assert np.array_equal(cw, differ) and cw.any()
-    assert re.search(r"weights update +\d+\.\d{4} s +\(laplace, library update_shape_functions\(\), host; \d+ of "
+    assert re.search(r"weights update +\d+\.\d{4} s +\(laplace, library update_shape_functions\(\) on backend [a-z() ]+; \d+ of "
                      r"1512 rows recomputed, \d+ changed\)", r.stdout), r.stdout
 
 

@@ -26,7 +26,7 @@ endfunction()
 
 # timing_lines(<name> <method>): stdout has the weights' update and full-recompute lines, with times
 function(timing_lines name method)
-  foreach(re "weights update +[0-9]+\\.[0-9]+ s +\\(${method}, library update_shape_functions\\(\\), host; [0-9]+ of 360 rows recomputed, [0-9]+ changed\\)"
+  foreach(re "weights update +[0-9]+\\.[0-9]+ s +\\(${method}, library update_shape_functions\\(\\) on backend [a-z() ]+; [0-9]+ of 360 rows recomputed, [0-9]+ changed\\)"
              "weights recompute +[0-9]+\\.[0-9]+ s +\\(${method}, shape_functions\\(\\) on backend [a-z]+\\) +[0-9.]+x; identical bit for bit")
     if(NOT "${OUT_${name}}" MATCHES "${re}")
       message(SEND_ERROR "FAIL: ${name}: stdout lacks a line matching '${re}': ${OUT_${name}}")

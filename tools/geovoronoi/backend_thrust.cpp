@@ -22,6 +22,13 @@ gv::point_weights<T> thrust_shape_at(const problem_spec<T>& s, const gv::diagram
   return solve_shape_at(gv::thrust::par, s, d, at, opt);
 }
 
+template <class T>
+gv::shape_update_stats thrust_shape_update(const problem_spec<T>& s, const gv::diagram<T, 3>& d_before,
+                                           const gv::diagram<T, 3>& d_after, gv::shape_weights<T, 3>& w,
+                                           const gv::change<3>& c, const gv::shape_options& opt) {
+  return update_shape(gv::thrust::par, s, d_before, d_after, w, c, opt);
+}
+
 template gv::diagram<float, 3> thrust_voronoi(const problem_spec<float>&);
 template gv::diagram<double, 3> thrust_voronoi(const problem_spec<double>&);
 template gv::shape_weights<float, 3> thrust_shape(const problem_spec<float>&, const gv::diagram<float, 3>&,
@@ -32,5 +39,12 @@ template gv::point_weights<float> thrust_shape_at(const problem_spec<float>&, co
                                                const point_spec&, const gv::shape_options&);
 template gv::point_weights<double> thrust_shape_at(const problem_spec<double>&, const gv::diagram<double, 3>&,
                                                 const point_spec&, const gv::shape_options&);
+
+template gv::shape_update_stats thrust_shape_update(const problem_spec<float>&, const gv::diagram<float, 3>&,
+                                                   const gv::diagram<float, 3>&, gv::shape_weights<float, 3>&,
+                                                   const gv::change<3>&, const gv::shape_options&);
+template gv::shape_update_stats thrust_shape_update(const problem_spec<double>&, const gv::diagram<double, 3>&,
+                                                   const gv::diagram<double, 3>&, gv::shape_weights<double, 3>&,
+                                                   const gv::change<3>&, const gv::shape_options&);
 
 }  // namespace gvcli

@@ -170,6 +170,10 @@ struct solver_fns {
   gv::shape_weights<T, 3> (*shape)(const problem_spec<T>&, const gv::diagram<T, 3>&, const gv::shape_options&) = nullptr;
   gv::point_weights<T> (*shape_at)(const problem_spec<T>&, const gv::diagram<T, 3>&, const point_spec&,
                                    const gv::shape_options&) = nullptr;
+  /// update_shape_functions_in_place() on this backend (`cut --method`, `demo`)
+  gv::shape_update_stats (*shape_update)(const problem_spec<T>&, const gv::diagram<T, 3>&, const gv::diagram<T, 3>&,
+                                         gv::shape_weights<T, 3>&, const gv::change<3>&,
+                                         const gv::shape_options&) = nullptr;
 };
 
 // ---- each backend's entry points (backend_seq.cpp, backend_thrust.cpp, cuda.cu) ----------------
@@ -183,9 +187,10 @@ gv::shape_weights<T, 3> seq_shape(const problem_spec<T>& s, const gv::diagram<T,
 template <class T>
 gv::point_weights<T> seq_shape_at(const problem_spec<T>& s, const gv::diagram<T, 3>& d, const point_spec& at,
                                   const gv::shape_options& opt);
-/// The shape functions' update after a change (update_shape(), update_shape_at()) with gv::seq: like
-/// the diagram's update, one host algorithm for every backend (`cut --method`, `demo`). Here, beside
-/// seq_shape(), so that the row computations they share are compiled once.
+/// The shape functions' update after a change (update_shape(), update_shape_at()) with gv::seq. Each
+/// backend's update sits beside its shape functions (seq_shape(), thrust_shape()), so that the row
+/// computations they share are compiled once; the CUDA backend's table entry uses the seq one (a host
+/// update, like the diagram's).
 template <class T>
 gv::shape_update_stats seq_shape_update(const problem_spec<T>& s, const gv::diagram<T, 3>& d_before,
                                         const gv::diagram<T, 3>& d_after, gv::shape_weights<T, 3>& w,
@@ -202,6 +207,10 @@ gv::shape_weights<T, 3> thrust_shape(const problem_spec<T>& s, const gv::diagram
 template <class T>
 gv::point_weights<T> thrust_shape_at(const problem_spec<T>& s, const gv::diagram<T, 3>& d, const point_spec& at,
                                      const gv::shape_options& opt);
+template <class T>
+gv::shape_update_stats thrust_shape_update(const problem_spec<T>& s, const gv::diagram<T, 3>& d_before,
+                                           const gv::diagram<T, 3>& d_after, gv::shape_weights<T, 3>& w,
+                                           const gv::change<3>& c, const gv::shape_options& opt);
 /// Whether a CUDA device can be used: an empty string when it can (then @p device holds its name),
 /// else why not (no device, no driver, ...). Never throws.
 std::string cuda_unavailable_reason(std::string* device = nullptr);
@@ -213,8 +222,11 @@ template <class T>
 gv::point_weights<T> cuda_shape_at(const problem_spec<T>& s, const gv::diagram<T, 3>& d, const point_spec& at,
                                    const gv::shape_options& opt);
 
-/// The three entry points of backend @p prefix (seq, thrust, cuda) for type T, for the table.
-#define GEOVORONOI_CLI_FNS(prefix, T) \
-  ::gvcli::solver_fns<T> { prefix##_voronoi<T>, prefix##_shape<T>, prefix##_shape_at<T> }
+/// The entry points of backend @p prefix (seq, thrust, cuda) for type T, for the table, with the
+/// shape functions' update of backend @p update (seq or thrust).
+#define GEOVORONOI_CLI_FNS(prefix, update, T)                                                    \
+  ::gvcli::solver_fns<T> {                                                                        \
+    prefix##_voronoi<T>, prefix##_shape<T>, prefix##_shape_at<T>, update##_shape_update<T>       \
+  }
 
 }  // namespace gvcli

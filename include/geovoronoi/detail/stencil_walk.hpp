@@ -31,6 +31,9 @@ struct stencil_walker {
 
   /// Calls f(k, u) for each neighbour u = v + offset k of @p p's stencil that lies inside the grid
   /// and whose edge to @p v is not cut (for a problem with cuts; without, the cut test compiles away).
+  /// Calls f(k, u) for each in-grid, uncut neighbour u of @p v, in increasing k; the connectivity's
+  /// offsets are in (z, y, x) lexicographic order, so the neighbours come in increasing linear index
+  /// (the parent rule of update.hpp takes the first realiser it meets as the lowest-index one).
   template <class P, class F>
   GEOVORONOI_HOST_DEVICE void for_each_neighbour(const P& p, index_t v, F&& f) const {
     index_t x, y, z;

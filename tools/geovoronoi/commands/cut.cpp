@@ -117,7 +117,7 @@ void cut_shape(const job& j, const shape_args& sa, const problem_spec<T>& before
   gv::shape_update_stats st;
   t0 = std::chrono::steady_clock::now();
   try {
-    st = seq_shape_update(after_spec, before, after, w_after, change, opt);
+    st = fns.shape_update(after_spec, before, after, w_after, change, opt);
   } catch (const std::invalid_argument& e) {  // the inputs were checked: a bug in the tool or the library
     throw runtime_failure(std::string("internal error in the shape functions' update: ") + e.what());
   }
@@ -129,9 +129,10 @@ void cut_shape(const job& j, const shape_args& sa, const problem_spec<T>& before
   write_shape(out.subdir("before"), w_before, before, sa.picture_node, pc, method);
   write_shape(out.subdir("after"), w_after, after, sa.picture_node, pc, method);
   const std::size_t n_changed = write_changed_weights(out.subdir("."), w_before, w_after);
-  std::printf("  weights update     %9.4f s  (%s, library update_shape_functions(), host; %zu of %zu rows recomputed%s, "
-              "%zu changed)\n",
-              t_update, method, st.recomputed, st.rows, st.full ? " (all: no smaller set is proven)" : "", n_changed);
+  std::printf("  weights update     %9.4f s  (%s, library update_shape_functions() on backend %s; %zu of %zu rows "
+              "recomputed%s, %zu changed)\n",
+              t_update, method, std::string(j.solver->name) == "cuda" ? "seq (host)" : j.solver->name, st.recomputed, st.rows,
+              st.full ? " (all: no smaller set is proven)" : "", n_changed);
   std::printf("  weights recompute  %9.4f s  (%s, shape_functions() on backend %s)  %.1fx; identical bit for bit "
               "(node and weight of every slot)\n",
               t_full, method, j.solver->name, t_update > 0 ? t_full / t_update : 0.0);

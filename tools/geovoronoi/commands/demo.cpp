@@ -191,7 +191,7 @@ int run(const std::vector<std::string>& args) {
   auto w_cut = w_dr;
   gv::change<3> blade_change;
   blade_change.cut = blade_set;
-  const auto st = seq_shape_update(p_cut, d, dc, w_cut, blade_change, opt_dr);
+  const auto st = solver.in_float.shape_update(p_cut, d, dc, w_cut, blade_change, opt_dr);
   const double t_weights = bar.seconds() - t0;
   {
     const std::string sub = out.subdir("cut");
