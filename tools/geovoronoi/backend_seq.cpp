@@ -34,27 +34,30 @@ gv::shape_update_stats seq_shape_update_at(const problem_spec<T>& s, const gv::d
 }
 
 template gv::diagram<float, 3> seq_voronoi(const problem_spec<float>&);
-template gv::diagram<double, 3> seq_voronoi(const problem_spec<double>&);
 template gv::shape_weights<float, 3> seq_shape(const problem_spec<float>&, const gv::diagram<float, 3>&,
                                                 const gv::shape_options&);
-template gv::shape_weights<double, 3> seq_shape(const problem_spec<double>&, const gv::diagram<double, 3>&,
-                                                 const gv::shape_options&);
 template gv::point_weights<float> seq_shape_at(const problem_spec<float>&, const gv::diagram<float, 3>&,
                                                const point_spec&, const gv::shape_options&);
-template gv::point_weights<double> seq_shape_at(const problem_spec<double>&, const gv::diagram<double, 3>&,
-                                                const point_spec&, const gv::shape_options&);
-
 template gv::shape_update_stats seq_shape_update(const problem_spec<float>&, const gv::diagram<float, 3>&,
                                                 const gv::diagram<float, 3>&, gv::shape_weights<float, 3>&,
-                                                const gv::change<3>&, const gv::shape_options&);
-template gv::shape_update_stats seq_shape_update(const problem_spec<double>&, const gv::diagram<double, 3>&,
-                                                const gv::diagram<double, 3>&, gv::shape_weights<double, 3>&,
                                                 const gv::change<3>&, const gv::shape_options&);
 template gv::shape_update_stats seq_shape_update_at(const problem_spec<float>&, const gv::diagram<float, 3>&,
                                                    const gv::diagram<float, 3>&, gv::point_weights<float>&,
                                                    const gv::change<3>&, const gv::shape_options&);
+
+// the lean build (GEOVORONOI_TOOL_LEAN, what scripts/demo.sh builds) computes in float only
+#if !defined(GEOVORONOI_CLI_LEAN)
+template gv::diagram<double, 3> seq_voronoi(const problem_spec<double>&);
+template gv::shape_weights<double, 3> seq_shape(const problem_spec<double>&, const gv::diagram<double, 3>&,
+                                                 const gv::shape_options&);
+template gv::point_weights<double> seq_shape_at(const problem_spec<double>&, const gv::diagram<double, 3>&,
+                                                const point_spec&, const gv::shape_options&);
+template gv::shape_update_stats seq_shape_update(const problem_spec<double>&, const gv::diagram<double, 3>&,
+                                                const gv::diagram<double, 3>&, gv::shape_weights<double, 3>&,
+                                                const gv::change<3>&, const gv::shape_options&);
 template gv::shape_update_stats seq_shape_update_at(const problem_spec<double>&, const gv::diagram<double, 3>&,
                                                    const gv::diagram<double, 3>&, gv::point_weights<double>&,
                                                    const gv::change<3>&, const gv::shape_options&);
+#endif
 
 }  // namespace gvcli

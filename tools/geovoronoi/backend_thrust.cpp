@@ -30,21 +30,24 @@ gv::shape_update_stats thrust_shape_update(const problem_spec<T>& s, const gv::d
 }
 
 template gv::diagram<float, 3> thrust_voronoi(const problem_spec<float>&);
-template gv::diagram<double, 3> thrust_voronoi(const problem_spec<double>&);
 template gv::shape_weights<float, 3> thrust_shape(const problem_spec<float>&, const gv::diagram<float, 3>&,
                                                 const gv::shape_options&);
-template gv::shape_weights<double, 3> thrust_shape(const problem_spec<double>&, const gv::diagram<double, 3>&,
-                                                 const gv::shape_options&);
 template gv::point_weights<float> thrust_shape_at(const problem_spec<float>&, const gv::diagram<float, 3>&,
                                                const point_spec&, const gv::shape_options&);
-template gv::point_weights<double> thrust_shape_at(const problem_spec<double>&, const gv::diagram<double, 3>&,
-                                                const point_spec&, const gv::shape_options&);
-
 template gv::shape_update_stats thrust_shape_update(const problem_spec<float>&, const gv::diagram<float, 3>&,
                                                    const gv::diagram<float, 3>&, gv::shape_weights<float, 3>&,
                                                    const gv::change<3>&, const gv::shape_options&);
+
+// the lean build (GEOVORONOI_TOOL_LEAN, what scripts/demo.sh builds) computes in float only
+#if !defined(GEOVORONOI_CLI_LEAN)
+template gv::diagram<double, 3> thrust_voronoi(const problem_spec<double>&);
+template gv::shape_weights<double, 3> thrust_shape(const problem_spec<double>&, const gv::diagram<double, 3>&,
+                                                 const gv::shape_options&);
+template gv::point_weights<double> thrust_shape_at(const problem_spec<double>&, const gv::diagram<double, 3>&,
+                                                const point_spec&, const gv::shape_options&);
 template gv::shape_update_stats thrust_shape_update(const problem_spec<double>&, const gv::diagram<double, 3>&,
                                                    const gv::diagram<double, 3>&, gv::shape_weights<double, 3>&,
                                                    const gv::change<3>&, const gv::shape_options&);
+#endif
 
 }  // namespace gvcli

@@ -37,16 +37,16 @@ bool cuda_usable() { return cuda_problem().empty(); }
 const std::vector<backend>& backends() {
   static const std::vector<backend> table = {
       {"seq", true, [] { return std::string("sequential Dijkstra"); }, runs_here, always,
-       GEOVORONOI_CLI_FNS(seq, seq, float), GEOVORONOI_CLI_FNS(seq, seq, double)},
+       GEOVORONOI_CLI_FNS(seq, seq, float), GEOVORONOI_CLI_FNS_DOUBLE(seq, seq)},
 #if defined(GEOVORONOI_CLI_THRUST)
       {"thrust", true, threads_text, runs_here, several_threads, GEOVORONOI_CLI_FNS(thrust, thrust, float),
-       GEOVORONOI_CLI_FNS(thrust, thrust, double)},
+       GEOVORONOI_CLI_FNS_DOUBLE(thrust, thrust)},
 #else
       {"thrust", false, nullptr, nullptr, nullptr, {}, {}},
 #endif
 #if defined(GEOVORONOI_CLI_CUDA)
       {"cuda", true, cuda_text, cuda_problem, cuda_usable, GEOVORONOI_CLI_FNS(cuda, seq, float),
-       GEOVORONOI_CLI_FNS(cuda, seq, double)},
+       GEOVORONOI_CLI_FNS_DOUBLE(cuda, seq)},
 #else
       {"cuda", false, nullptr, nullptr, nullptr, {}, {}},
 #endif

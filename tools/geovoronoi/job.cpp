@@ -181,6 +181,12 @@ job load_job(const arguments& a) {
       });
     });
   }
+#if defined(GEOVORONOI_CLI_LEAN)
+  if (j.in_double)
+    throw usage_error(std::string(precision == "double" ? "--precision double"
+                                                        : "--precision auto chose double for this field, which") +
+                      lean_note());
+#endif
   if (!j.in_double) {
     j.field = to_float(j.field_double, j.stiffness_path);
     j.field_double = {};

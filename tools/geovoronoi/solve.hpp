@@ -25,12 +25,12 @@ namespace gv = geovoronoi;
 
 // Every solve is instantiated once per metric and connectivity (and cut or not, float or double).
 // A lean build (CMake option GEOVORONOI_TOOL_LEAN, what scripts/demo.sh builds) instantiates only
-// what `demo` uses, the metrics min_stiffness and uniform with 26 neighbours, and says so when asked
-// for another: a third of the compile time.
+// what `demo` uses, the metrics min_stiffness and uniform with 26 neighbours in float, and says so
+// when asked for another metric, connectivity or double precision.
 #if defined(GEOVORONOI_CLI_LEAN)
 inline const char* lean_note() {
   return " is not compiled into this lean build (GEOVORONOI_TOOL_LEAN, as scripts/demo.sh builds it: metrics "
-         "min_stiffness and uniform, 26 neighbours); build the target geovoronoi_tool without it";
+         "min_stiffness and uniform, 26 neighbours, float); build the target geovoronoi_tool without it";
 }
 #endif
 
@@ -228,5 +228,12 @@ gv::point_weights<T> cuda_shape_at(const problem_spec<T>& s, const gv::diagram<T
   ::gvcli::solver_fns<T> {                                                                        \
     prefix##_voronoi<T>, prefix##_shape<T>, prefix##_shape_at<T>, update##_shape_update<T>       \
   }
+/// The same in double; none in the lean build, which computes in float only (load_job() refuses
+/// double there).
+#if defined(GEOVORONOI_CLI_LEAN)
+#define GEOVORONOI_CLI_FNS_DOUBLE(prefix, update) ::gvcli::solver_fns<double> {}
+#else
+#define GEOVORONOI_CLI_FNS_DOUBLE(prefix, update) GEOVORONOI_CLI_FNS(prefix, update, double)
+#endif
 
 }  // namespace gvcli
