@@ -256,12 +256,22 @@ void solve_all(const P& after, diagram<typename P::value_type, P::dim>& d, Keys&
   for (index_t v = 0; v < n; ++v) d.parent[v] = parent_of(after, walk, d, v);
 }
 
+/// An edge (x -> y, direction k) from a voxel x that settled with a changed key to a neighbour y
+/// whose key x did not lower: y's parent must be decided again (it was x) or may become x (x realises
+/// y's key). The parent step decides these once every key is final, unless y's key changed too.
+struct parent_candidate {
+  index_t x, y;
+  int k;
+};
+
 /// Dijkstra over the diagram's own images that may lower any key (the engine's relaxation, bit for
 /// bit: same skip, mask, weight check and overflow rule), recording every voxel it lowers and setting
 /// each settled voxel's parent as it pops: its realisers have smaller keys, so they are final then.
+/// It also records the parent candidates (above) of the voxels it settles, for the parent step.
 template <class P>
 std::size_t settle(const P& after, diagram<typename P::value_type, P::dim>& d, radix_heap<typename P::value_type>& heap,
-                   const stencil_walker<P::dim>& walk, voxel_bits& lowered_bits, std::vector<index_t>& lowered) {
+                   const stencil_walker<P::dim>& walk, voxel_bits& lowered_bits, std::vector<index_t>& lowered,
+                   std::vector<parent_candidate>& candidates) {
   using T = typename P::value_type;
   using kt = key_traits<T>;
   const T inf = std::numeric_limits<T>::infinity();
@@ -284,22 +294,29 @@ std::size_t settle(const P& after, diagram<typename P::value_type, P::dim>& d, r
         if (!source && best == no_index &&
             kt::make(du + after.metric(after.edges.length[k], after.field[u], fv), l) == it.key)
           best = u;
+        // an equal distance (a zero or absorbed weight): v may realise u's key too
+        if (du == dv && !lowered_bits.test(u)) candidates.push_back({v, u, k});
         return;
       }
       const auto ku = lu == no_label ? kt::unreached : kt::make(du, lu);
-      if (!(it.key < ku)) return;
+      if (!(it.key < ku)) {  // u's key is final and smaller, with another label: v was its parent?
+        if (d.parent[u] == v && !lowered_bits.test(u)) candidates.push_back({v, u, k});
+        return;
+      }
       const T fu = after.field[u];
       if (!detail::inside<typename P::metric_type>(fu)) return;
       const T w = after.metric(after.edges.length[k], fv, fu);
       if (!(w >= T(0))) dijkstra::bad_weight(double(w));
       const T nd = dv + w;
-      if (!(nd < inf)) return;
-      const auto nk = kt::make(nd, l);
+      const auto nk = nd < inf ? kt::make(nd, l) : kt::unreached;
       if (nk < ku) {
         d.distance[u] = kt::distance(nk);
         d.label[u] = l;
         if (lowered_bits.insert(u)) lowered.push_back(u);
         heap.push(nk, u);
+      } else if (!lowered_bits.test(u) && (d.parent[u] == v || (nk == ku && lu == l))) {
+        // not lowered (yet): v was u's parent, or realises u's key; decided once every key is final
+        candidates.push_back({v, u, k});
       }
     });
     d.parent[v] = best;
@@ -460,6 +477,7 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
   //         and (re)started sources are queued, and Dijkstra lowers whatever gets better ---------
   std::vector<index_t> lowered;
   voxel_bits lowered_bits(n);
+  std::vector<parent_candidate> candidates;
   tracking_keys<T> keys{d.distance.data(), d.label.data(), after.field, &lowered_bits, &lowered, {}};
   radix_heap<T> heap;
   voxel_bits in_boundary(n);
@@ -498,7 +516,7 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
     }
   st.boundary = boundary;
   // the accept rule of the unbounded solve: a sum that overflows to +inf reaches nothing
-  st.settled = settle(after, d, heap, walk, lowered_bits, lowered);
+  st.settled = settle(after, d, heap, walk, lowered_bits, lowered, candidates);
   for (index_t v : lowered)
     if (!in_invalid.test(v)) ++st.lowered;
 
@@ -508,6 +526,8 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
   //         changed key; any other neighbour of a changed key only takes it as parent when it now
   //         realises the neighbour's key and has a lower index than its parent (an O(1) test).
   std::vector<index_t> checked;
+  // the keyed voxels that settled gave their neighbours' cases to `candidates` as they settled; the
+  // others (left unreached) are walked here
   auto fix_parents = [&](const std::vector<const std::vector<index_t>*>& lists, bool edges_changed) {
     voxel_bits marked(n);
     std::vector<index_t> keyed;
@@ -524,22 +544,23 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
       }
     // the keyed voxels got their parent when they settled (or stay unreached, without one)
     for (std::size_t i = keyed.size(); i < checked.size(); ++i) d.parent[checked[i]] = parent_of(after, walk, d, checked[i]);
-    for (index_t x : keyed) {
+    auto decide = [&](index_t x, int k, index_t y) {
+      if (marked.test(y)) return;
+      if (d.parent[y] == x) {  // its parent's key changed: the rule decides again
+        marked.insert(y);
+        checked.push_back(y);
+        d.parent[y] = parent_of(after, walk, d, y);
+        return;
+      }
       const label_t lx = d.label[x];
       const T dx = d.distance[x];
-      const T fx = after.field[x];
-      walk.for_each_neighbour(after, x, [&](int k, index_t y) {
-        if (marked.test(y)) return;
-        if (d.parent[y] == x) {  // its parent's key changed: the rule decides again
-          marked.insert(y);
-          checked.push_back(y);
-          d.parent[y] = parent_of(after, walk, d, y);
-          return;
-        }
-        if (lx == no_label || d.label[y] != lx || !(dx <= d.distance[y]) || !(x < d.parent[y])) return;
-        if (d.distance[y] == dx + after.metric(after.edges.length[k], fx, after.field[y])) d.parent[y] = x;
-      });
-    }
+      if (lx == no_label || d.label[y] != lx || !(dx <= d.distance[y]) || !(x < d.parent[y])) return;
+      if (d.distance[y] == dx + after.metric(after.edges.length[k], after.field[x], after.field[y])) d.parent[y] = x;
+    };
+    for (const auto& c : candidates) decide(c.x, c.k, c.y);
+    candidates.clear();
+    for (index_t x : keyed)
+      if (d.label[x] == no_label) walk.for_each_neighbour(after, x, [&](int k, index_t y) { decide(x, k, y); });
     st.reparented += checked.size();
   };
   fix_parents({&invalid, &lowered, &restarted}, any_field);
@@ -592,7 +613,7 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
     }
     for (index_t x : lowered) lowered_bits.erase(x);
     lowered.clear();
-    st.settled += settle(after, d, heap, walk, lowered_bits, lowered);
+    st.settled += settle(after, d, heap, walk, lowered_bits, lowered, candidates);
     fix_parents({&redo, &lowered}, false);
   }
   return st;
