@@ -42,7 +42,7 @@ ensure_packages cmake g++ make ninja-build libeigen3-dev doctest-dev libbenchmar
 
 jobs=$(nproc)
 gpu=0
-if command -v nvidia-smi >/dev/null 2>&1 && nvidia-smi -L 2>/dev/null | grep -q GPU; then
+if command -v nvidia-smi >/dev/null 2>&1 && nvidia-smi -L 2>/dev/null | grep GPU >/dev/null; then
   gpu=1
   cuda_arch="${GEOVORONOI_CUDA_ARCHITECTURES:-80}"
 else
@@ -96,7 +96,9 @@ if [ "$gpu" = 0 ]; then
   reduced_cuda=ON
   cuda_flags="-O0 -DNDEBUG"
   nvcc_bin=$(command -v nvcc || echo /usr/local/cuda/bin/nvcc)
-  if [ -x "$nvcc_bin" ] && "$nvcc_bin" --help 2>/dev/null | grep -q -- "--Ofast-compile"; then
+  # (grep reads the whole help: with -q it would stop at the match, nvcc would die of SIGPIPE and,
+  # under pipefail, the test would fail at random)
+  if [ -x "$nvcc_bin" ] && "$nvcc_bin" --help 2>/dev/null | grep -- "--Ofast-compile" >/dev/null; then
     cuda_flags="$cuda_flags -Ofc=max"
   fi
 fi
