@@ -26,13 +26,6 @@ gv::shape_update_stats seq_shape_update(const problem_spec<T>& s, const gv::diag
   return update_shape(gv::seq, s, d_before, d_after, w, c, opt);
 }
 
-template <class T>
-gv::shape_update_stats seq_shape_update_at(const problem_spec<T>& s, const gv::diagram<T, 3>& d_before,
-                                           const gv::diagram<T, 3>& d_after, gv::point_weights<T>& w,
-                                           const gv::change<3>& c, const gv::shape_options& opt) {
-  return update_shape_at(gv::seq, s, d_before, d_after, w, c, opt);
-}
-
 template gv::diagram<float, 3> seq_voronoi(const problem_spec<float>&);
 template gv::shape_weights<float, 3> seq_shape(const problem_spec<float>&, const gv::diagram<float, 3>&,
                                                 const gv::shape_options&);
@@ -41,9 +34,6 @@ template gv::point_weights<float> seq_shape_at(const problem_spec<float>&, const
 template gv::shape_update_stats seq_shape_update(const problem_spec<float>&, const gv::diagram<float, 3>&,
                                                 const gv::diagram<float, 3>&, gv::shape_weights<float, 3>&,
                                                 const gv::change<3>&, const gv::shape_options&);
-template gv::shape_update_stats seq_shape_update_at(const problem_spec<float>&, const gv::diagram<float, 3>&,
-                                                   const gv::diagram<float, 3>&, gv::point_weights<float>&,
-                                                   const gv::change<3>&, const gv::shape_options&);
 
 // the lean build (GEOVORONOI_TOOL_LEAN, what scripts/demo.sh builds) computes in float only
 #if !defined(GEOVORONOI_CLI_LEAN)
@@ -55,9 +45,6 @@ template gv::point_weights<double> seq_shape_at(const problem_spec<double>&, con
 template gv::shape_update_stats seq_shape_update(const problem_spec<double>&, const gv::diagram<double, 3>&,
                                                 const gv::diagram<double, 3>&, gv::shape_weights<double, 3>&,
                                                 const gv::change<3>&, const gv::shape_options&);
-template gv::shape_update_stats seq_shape_update_at(const problem_spec<double>&, const gv::diagram<double, 3>&,
-                                                   const gv::diagram<double, 3>&, gv::point_weights<double>&,
-                                                   const gv::change<3>&, const gv::shape_options&);
 #endif
 
 }  // namespace gvcli

@@ -150,19 +150,6 @@ gv::shape_update_stats update_shape(const Policy& policy, const problem_spec<T>&
   return st;
 }
 
-/// The same for weights at points (update_shape_functions_at_in_place()).
-template <class Policy, class T>
-gv::shape_update_stats update_shape_at(const Policy& policy, const problem_spec<T>& s, const gv::diagram<T, 3>& d_before,
-                                       const gv::diagram<T, 3>& d_after, gv::point_weights<T>& w,
-                                       const gv::change<3>& c, gv::shape_options opt) {
-  gv::shape_update_stats st;
-  opt.threads = s.threads;
-  with_problem(s, [&](const auto& p) {
-    st = gv::update_shape_functions_at_in_place(policy, p, d_before, d_after, w, c, opt);
-  });
-  return st;
-}
-
 /// One backend's entry points for one distance type (the backend table holds one set per type).
 template <class T>
 struct solver_fns {
@@ -174,6 +161,8 @@ struct solver_fns {
   gv::shape_update_stats (*shape_update)(const problem_spec<T>&, const gv::diagram<T, 3>&, const gv::diagram<T, 3>&,
                                          gv::shape_weights<T, 3>&, const gv::change<3>&,
                                          const gv::shape_options&) = nullptr;
+  /// the backend shape_update runs on (the CUDA entry uses seq's host update)
+  const char* shape_update_backend = nullptr;
 };
 
 // ---- each backend's entry points (backend_seq.cpp, backend_thrust.cpp, cuda.cu) ----------------
@@ -187,7 +176,7 @@ gv::shape_weights<T, 3> seq_shape(const problem_spec<T>& s, const gv::diagram<T,
 template <class T>
 gv::point_weights<T> seq_shape_at(const problem_spec<T>& s, const gv::diagram<T, 3>& d, const point_spec& at,
                                   const gv::shape_options& opt);
-/// The shape functions' update after a change (update_shape(), update_shape_at()) with gv::seq. Each
+/// The shape functions' update after a change (update_shape()) with gv::seq. Each
 /// backend's update sits beside its shape functions (seq_shape(), thrust_shape()), so that the row
 /// computations they share are compiled once; the CUDA backend's table entry uses the seq one (a host
 /// update, like the diagram's).
@@ -195,10 +184,6 @@ template <class T>
 gv::shape_update_stats seq_shape_update(const problem_spec<T>& s, const gv::diagram<T, 3>& d_before,
                                         const gv::diagram<T, 3>& d_after, gv::shape_weights<T, 3>& w,
                                         const gv::change<3>& c, const gv::shape_options& opt);
-template <class T>
-gv::shape_update_stats seq_shape_update_at(const problem_spec<T>& s, const gv::diagram<T, 3>& d_before,
-                                           const gv::diagram<T, 3>& d_after, gv::point_weights<T>& w,
-                                           const gv::change<3>& c, const gv::shape_options& opt);
 template <class T>
 gv::diagram<T, 3> thrust_voronoi(const problem_spec<T>& s);
 template <class T>
@@ -226,7 +211,7 @@ gv::point_weights<T> cuda_shape_at(const problem_spec<T>& s, const gv::diagram<T
 /// shape functions' update of backend @p update (seq or thrust).
 #define GEOVORONOI_CLI_FNS(prefix, update, T)                                                    \
   ::gvcli::solver_fns<T> {                                                                        \
-    prefix##_voronoi<T>, prefix##_shape<T>, prefix##_shape_at<T>, update##_shape_update<T>       \
+    prefix##_voronoi<T>, prefix##_shape<T>, prefix##_shape_at<T>, update##_shape_update<T>, #update \
   }
 /// The same in double; none in the lean build, which computes in float only (load_job() refuses
 /// double there).

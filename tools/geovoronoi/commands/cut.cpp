@@ -131,7 +131,7 @@ void cut_shape(const job& j, const shape_args& sa, const problem_spec<T>& before
   const std::size_t n_changed = write_changed_weights(out.subdir("."), w_before, w_after);
   std::printf("  weights update     %9.4f s  (%s, library update_shape_functions() on backend %s; %zu of %zu rows "
               "recomputed%s, %zu changed)\n",
-              t_update, method, std::string(j.solver->name) == "cuda" ? "seq (host)" : j.solver->name, st.recomputed, st.rows,
+              t_update, method, fns.shape_update_backend, st.recomputed, st.rows,
               st.full ? " (all: no smaller set is proven)" : "", n_changed);
   std::printf("  weights recompute  %9.4f s  (%s, shape_functions() on backend %s)  %.1fx; identical bit for bit "
               "(node and weight of every slot)\n",
