@@ -83,6 +83,14 @@ const backend& pick_backend(const arguments& a) {
   throw usage_error("unknown backend '" + name + "' (" + known + ")");
 }
 
+unsigned thrust_threads() {
+#if defined(_OPENMP)
+  return unsigned(omp_get_max_threads());
+#else
+  return std::thread::hardware_concurrency();
+#endif
+}
+
 unsigned use_threads(const arguments& a) {
   if (!a.has("--threads")) return 0;
   const int n = int(a.integer("--threads", 0, 1, max_threads()));

@@ -47,6 +47,10 @@ const backend& default_backend();
 /// cannot run here.
 const backend& pick_backend(const arguments& a);
 
+/// The threads a thrust run would use now: OpenMP's thread limit (`--threads N` once use_threads()
+/// has set it, else OMP_NUM_THREADS, else the hardware threads); the hardware threads without OpenMP.
+unsigned thrust_threads();
+
 /// `--threads N`: how many threads the thrust backend uses, 1 to max_threads() (4 x the hardware
 /// threads, errors.hpp); overrides OMP_NUM_THREADS. Returns N (0 without the option), which the
 /// solves pass on as solve_options::threads / shape_options::threads; also sets the OpenMP default.

@@ -217,7 +217,7 @@ job load_job(const arguments& a) {
       if (std::string(b.name) == "cuda" && b.built && b.unavailable().empty()) gpu = true;
     with_precision(j, [&](auto t) {
       with_problem(j.spec<decltype(t)>(), [&](const auto& p) {
-        const auto k = gv::recommended_backend(p, std::thread::hardware_concurrency(), gpu);
+        const auto k = gv::recommended_backend(p, thrust_threads(), gpu);
         for (const auto& b : backends())
           if (b.built && std::string(b.name) == gv::to_string(k) && b.unavailable().empty()) j.solver = &b;
       });

@@ -307,21 +307,20 @@ sparse_solution<T> extract(const Exec& exec, const key_cell<T>* keys, index_t n)
   r.distance.resize(static_cast<std::size_t>(total));
   r.label.resize(static_cast<std::size_t>(total));
   if (total == 0) return r;
-  vec<Exec, index_t> vox(static_cast<std::size_t>(total));
-  vec<Exec, T> dist(static_cast<std::size_t>(total));
-  vec<Exec, label_t> lab(static_cast<std::size_t>(total));
-  parallel_for(exec, chunks, reached_fn<T>{keys, n, chunk, raw(count), raw(vox)}, n);
-  parallel_for(exec, total, sparse_fn<T>{keys, raw(vox), raw(dist), raw(lab)}, total);
   if constexpr (is_cuda_policy_v<Exec>) {
 #ifdef __CUDACC__
+    vec<Exec, index_t> vox(static_cast<std::size_t>(total));
+    vec<Exec, T> dist(static_cast<std::size_t>(total));
+    vec<Exec, label_t> lab(static_cast<std::size_t>(total));
+    parallel_for(exec, chunks, reached_fn<T>{keys, n, chunk, raw(count), raw(vox)}, n);
+    parallel_for(exec, total, sparse_fn<T>{keys, raw(vox), raw(dist), raw(lab)}, total);
     ::thrust::copy(vox.begin(), vox.end(), r.voxel.begin());
     ::thrust::copy(dist.begin(), dist.end(), r.distance.begin());
     ::thrust::copy(lab.begin(), lab.end(), r.label.begin());
 #endif
-  } else {
-    r.voxel = std::move(vox);
-    r.distance = std::move(dist);
-    r.label = std::move(lab);
+  } else {  // host memory: straight into the result
+    parallel_for(exec, chunks, reached_fn<T>{keys, n, chunk, raw(count), r.voxel.data()}, n);
+    parallel_for(exec, total, sparse_fn<T>{keys, r.voxel.data(), r.distance.data(), r.label.data()}, total);
   }
   return r;
 }

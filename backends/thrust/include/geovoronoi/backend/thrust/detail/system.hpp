@@ -4,6 +4,7 @@
 // a value is read back. Everything else is the same code on every system.
 
 #include <geovoronoi/config.hpp>
+#include <geovoronoi/detail/big_array.hpp>
 
 #include <thrust/execution_policy.h>
 #include <thrust/for_each.h>
@@ -35,9 +36,12 @@ std::false_type is_cuda_policy_test(...);
 template <class Exec>
 inline constexpr bool is_cuda_policy_v = decltype(is_cuda_policy_test(static_cast<const Exec*>(nullptr)))::value;
 
+/// Host systems: std::vector on huge pages where the system allows them. The engine reads and
+/// writes keys and flags at random over the whole volume; with 4 KiB pages nearly every access past
+/// the cache also missed the TLB (docs/backend-thrust.md, "Memory").
 template <class Exec, class U, bool Device = is_cuda_policy_v<Exec>>
 struct vector_for {
-  using type = std::vector<U>;
+  using type = std::vector<U, geovoronoi::detail::huge_page_allocator<U>>;
 };
 #ifdef __CUDACC__
 template <class Exec, class U>
@@ -50,8 +54,8 @@ struct vector_for<Exec, U, true> {
 template <class Exec, class U>
 using vec = typename vector_for<Exec, U>::type;
 
-template <class U>
-U* raw(std::vector<U>& v) noexcept {
+template <class U, class A>
+U* raw(std::vector<U, A>& v) noexcept {
   return v.data();
 }
 template <class V>
