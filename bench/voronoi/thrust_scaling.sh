@@ -7,7 +7,8 @@
 # It prints, per case and thread count, the median times over the rounds, the ratio seq / thrust_omp
 # (> 1: thrust_omp faster), thrust_omp's slowest run over its median (one run = one solve at 256^3 and
 # for mri; the mean of 2 solves at 128^3; the issue asks <= 1.2) and
-# relaxations per voxel, and the load average at the start of every run. Before the first round it
+# relaxations per voxel, and the load average at the start of every run. Before the first round and
+# after the last it times a fixed memory-bound loop without the library (the machine's own spread). Before the first round it
 # waits (up to QUIET_WAIT seconds, default 600) until no other process uses more than 20% of a core,
 # and says whether it got that. OMP_WAIT_POLICY and GOMP_SPINCOUNT are passed through unchanged
 # (see docs/backend-thrust.md on loaded machines).
@@ -37,9 +38,32 @@ wait_quiet() {
   done
 }
 
+# The machine's own spread on memory-bound work, without the library: a fixed random gather over
+# 64 MiB (NumPy), 8 runs after a warm-up. A solve of these sizes waits on memory, so its slowest / median can only be
+# judged against this one (docs/benchmarks.md, "Huge pages, and where the spread comes from").
+memory_spread() {
+  "$py" - <<'PYEOF' 2>/dev/null || echo "(no NumPy for $py: machine check skipped)"
+import statistics, time
+import numpy as np
+n = 16 << 20
+a = np.arange(n, dtype=np.uint32)
+idx = np.random.default_rng(1).integers(0, n, n, dtype=np.int64)
+int(a[idx].sum())  # warm-up: page faults of the first gather
+ts = []
+for _ in range(8):
+    t = time.perf_counter()
+    int(a[idx].sum())
+    ts.append(time.perf_counter() - t)
+m = statistics.median(ts)
+print(f"machine check (random gather over 64 MiB, 8 runs): fastest {min(ts):.3f} s, median {m:.3f} s, "
+      f"slowest {max(ts):.3f} s, slowest / median {max(ts) / m:.2f}")
+PYEOF
+}
+
 echo "machine: $(lscpu | awk -F: '/Model name/{gsub(/^ +/,"",$2); print $2; exit}'), $(nproc) CPUs; $(date -u '+%Y-%m-%d %H:%M UTC')"
 echo "OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-<unset>} GOMP_SPINCOUNT=${GOMP_SPINCOUNT:-<unset>}"
 echo "before round 1: $(wait_quiet)"
+memory_spread
 for r in $(seq 1 "$rounds"); do
   for t in 1 2; do
     echo "round $r, OMP_NUM_THREADS=$t: load average $(cut -d' ' -f1-3 /proc/loadavg)"
@@ -47,6 +71,7 @@ for r in $(seq 1 "$rounds"); do
       --benchmark_out="$out/r${r}t$t.json" --benchmark_out_format=json >/dev/null 2>"$out/r${r}t$t.log"
   done
 done
+memory_spread
 echo "done: load average $(cut -d' ' -f1-3 /proc/loadavg), $(date -u '+%H:%M UTC')"
 "$py" - "$out" <<'EOF'
 import glob, json, os, re, statistics, sys
