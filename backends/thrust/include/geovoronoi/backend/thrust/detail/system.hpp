@@ -37,8 +37,8 @@ template <class Exec>
 inline constexpr bool is_cuda_policy_v = decltype(is_cuda_policy_test(static_cast<const Exec*>(nullptr)))::value;
 
 /// Host systems: std::vector on huge pages where the system allows them. The engine reads and
-/// writes keys and flags at random over the whole volume; with 4 KiB pages nearly every access past
-/// the cache also missed the TLB (docs/backend-thrust.md, "Memory").
+/// writes keys and flags at random over the whole volume; with 4 KiB pages nearly every access that
+/// misses the cache also misses the TLB (docs/backend-thrust.md, "Memory").
 template <class Exec, class U, bool Device = is_cuda_policy_v<Exec>>
 struct vector_for {
   using type = std::vector<U, geovoronoi::detail::huge_page_allocator<U>>;
