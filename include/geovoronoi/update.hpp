@@ -275,51 +275,62 @@ std::size_t settle(const P& after, diagram<typename P::value_type, P::dim>& d, r
   using T = typename P::value_type;
   using kt = key_traits<T>;
   const T inf = std::numeric_limits<T>::infinity();
+  // the images through raw pointers: the vectors' own data pointers would be reloaded after every
+  // push_back (an opaque call)
+  T* const dist = d.distance.data();
+  label_t* const lab = d.label.data();
+  index_t* const par = d.parent.data();
+  const T* const field = after.field;
+  const index_t* const seeds = d.seeds.data();
+  const std::size_t seed_count = d.seeds.size();
   std::size_t settled = 0;
   while (!heap.empty()) {
     const auto it = heap.pop();
     const index_t v = it.voxel;
-    const label_t l = d.label[v];
-    if (l == no_label || it.key != kt::make(d.distance[v], l)) continue;  // stale entry
+    const label_t l = lab[v];
+    if (l == no_label || it.key != kt::make(dist[v], l)) continue;  // stale entry
     ++settled;
-    const T dv = d.distance[v];
-    const T fv = after.field[v];
-    const bool source = std::size_t(l) < d.seeds.size() && d.seeds[std::size_t(l)] == v && dv == T(0);
+    const T dv = dist[v];
+    const T fv = field[v];
+    const bool source = std::size_t(l) < seed_count && seeds[std::size_t(l)] == v && dv == T(0);
     index_t best = no_index;
     walk.for_each_neighbour(after, v, [&](int k, index_t u) {
-      const label_t lu = d.label[u];
-      const T du = d.distance[u];
-      if (lu == l && du <= dv) {  // no larger key: nothing to relax; a realiser if u + w(u -> v) gives v's key
-        // (the walker visits neighbours in increasing index order: the first realiser is the parent)
-        if (!source && best == no_index &&
-            kt::make(du + after.metric(after.edges.length[k], after.field[u], fv), l) == it.key)
-          best = u;
-        // an equal distance (a zero or absorbed weight): v may realise u's key too
-        if (du == dv && !lowered_bits.test(u)) candidates.push_back({v, u, k});
+      const label_t lu = lab[u];
+      const T du = dist[u];
+      // an unreached voxel holds (+inf, no_label), whose key orders above every reached key, as the
+      // unreached sentinel does
+      const auto ku = kt::make(du, lu);
+      if (!(it.key < ku)) {  // u's key is not larger: final, nothing to relax
+        if (lu == l) {
+          // a realiser if u + w(u -> v) gives v's key (the walker visits neighbours in increasing
+          // index order: the first realiser is the parent)
+          if (!source && best == no_index &&
+              kt::make(du + after.metric(after.edges.length[k], field[u], fv), l) == it.key)
+            best = u;
+          // an equal distance (a zero or absorbed weight): v may realise u's key too
+          if (du == dv && !lowered_bits.test(u)) candidates.push_back({v, u, k});
+        } else if (par[u] == v && !lowered_bits.test(u)) {  // another label: v was its parent?
+          candidates.push_back({v, u, k});
+        }
         return;
       }
-      const auto ku = lu == no_label ? kt::unreached : kt::make(du, lu);
-      if (!(it.key < ku)) {  // u's key is final and smaller, with another label: v was its parent?
-        if (d.parent[u] == v && !lowered_bits.test(u)) candidates.push_back({v, u, k});
-        return;
-      }
-      const T fu = after.field[u];
+      const T fu = field[u];
       if (!detail::inside<typename P::metric_type>(fu)) return;
       const T w = after.metric(after.edges.length[k], fv, fu);
       if (!(w >= T(0))) dijkstra::bad_weight(double(w));
       const T nd = dv + w;
       const auto nk = nd < inf ? kt::make(nd, l) : kt::unreached;
       if (nk < ku) {
-        d.distance[u] = kt::distance(nk);
-        d.label[u] = l;
+        dist[u] = kt::distance(nk);
+        lab[u] = l;
         if (lowered_bits.insert(u)) lowered.push_back(u);
         heap.push(nk, u);
-      } else if (!lowered_bits.test(u) && (d.parent[u] == v || (nk == ku && lu == l))) {
+      } else if (!lowered_bits.test(u) && (par[u] == v || (nk == ku && lu == l))) {
         // not lowered (yet): v was u's parent, or realises u's key; decided once every key is final
         candidates.push_back({v, u, k});
       }
     });
-    d.parent[v] = best;
+    par[v] = best;
   }
   return settled;
 }
