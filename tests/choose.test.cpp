@@ -71,4 +71,30 @@ TEST_CASE("choose: a domain that is a small part of the grid goes to seq") {
   CHECK(gv::recommended_backend(p, 4, false, rule) == gv::backend_kind::thrust);
 }
 
+TEST_CASE("choose: shape functions go to thrust with two threads or more at any size, to seq with one") {
+  const gv::grid<3> g({12, 10, 8});  // 960 voxels: a Voronoi solve of it would stay on seq
+  const auto f = gv::phantom::constant(g);
+  const auto p = gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<26>{});
+  CHECK(gv::recommended_backend(p, 2) == gv::backend_kind::sequential);
+  CHECK(gv::recommended_shape_backend(p, 2) == gv::backend_kind::thrust);
+  CHECK(gv::recommended_shape_backend(p, 8) == gv::backend_kind::thrust);
+  CHECK(gv::recommended_shape_backend(p, 1) == gv::backend_kind::sequential);
+  CHECK(gv::recommended_shape_backend(p, 0) == gv::backend_kind::sequential);
+  CHECK(gv::recommended_shape_backend(p, 1, true) == gv::backend_kind::cuda);
+  const auto c = gv::recommended_shape_backend_explained(p, 2);
+  CHECK(c.facts.domain == g.size());
+  CHECK(c.facts.threads == 2u);
+  CHECK(std::strstr(c.reason, "shape functions") != nullptr);
+  gv::backend_rule rule;
+  rule.min_threads = 4;
+  CHECK(gv::recommended_shape_backend(p, 2, false, rule) == gv::backend_kind::sequential);
+  CHECK(gv::recommended_shape_backend(p, 4, false, rule) == gv::backend_kind::thrust);
+  // a large problem: the same answer as for a solve
+  const gv::grid<3> big({80, 80, 64});
+  const auto fb = gv::phantom::gradient(big);
+  const auto q = gv::make_problem(big, fb, gv::min_stiffness{}, gv::connectivity<26>{});
+  CHECK(gv::recommended_shape_backend(q, 2) == gv::backend_kind::thrust);
+  CHECK(gv::recommended_shape_backend(q, 1) == gv::backend_kind::sequential);
+}
+
 }  // namespace

@@ -275,6 +275,19 @@ if(NOT OUT_default_large_one MATCHES "backend ${want_one},")
   fail("a 271,400-voxel run with --threads 1 and no --backend should use ${want_one}: ${OUT_default_large_one}")
 endif()
 file(REMOVE_RECURSE ${WORK}/out-default-large)
+# shape functions share their searches among threads at any size
+# (geovoronoi::recommended_shape_backend): the small volume goes to thrust with --threads 2
+run(default_shape_two 0 shape-functions --method distance-ratio --stiffness stiff.pgm --extrude 4 --seeds seeds.csv
+    --threads 2 --out out-default-shape)
+if(NOT OUT_default_shape_two MATCHES "backend ${want_many},")
+  fail("shape-functions with --threads 2 and no --backend should use ${want_many}: ${OUT_default_shape_two}")
+endif()
+run(default_shape_one 0 shape-functions --method distance-ratio --stiffness stiff.pgm --extrude 4 --seeds seeds.csv
+    --threads 1 --out out-default-shape)
+if(NOT OUT_default_shape_one MATCHES "backend ${want_one},")
+  fail("shape-functions with --threads 1 and no --backend should use ${want_one}: ${OUT_default_shape_one}")
+endif()
+file(REMOVE_RECURSE ${WORK}/out-default-shape)
 
 foreach(b seq thrust cuda)
   set(o out-b-${b})

@@ -215,9 +215,12 @@ job load_job(const arguments& a) {
     bool gpu = false;
     for (const auto& b : backends())
       if (std::string(b.name) == "cuda" && b.built && b.unavailable().empty()) gpu = true;
+    // shape functions (shape-functions, cut --method) share their searches among threads at any size
+    const bool shape = a.has("--method");
     with_precision(j, [&](auto t) {
       with_problem(j.spec<decltype(t)>(), [&](const auto& p) {
-        const auto k = gv::recommended_backend(p, thrust_threads(), gpu);
+        const auto k = shape ? gv::recommended_shape_backend(p, thrust_threads(), gpu)
+                             : gv::recommended_backend(p, thrust_threads(), gpu);
         for (const auto& b : backends())
           if (b.built && std::string(b.name) == gv::to_string(k) && b.unavailable().empty()) j.solver = &b;
       });

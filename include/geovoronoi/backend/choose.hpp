@@ -101,4 +101,33 @@ backend_kind recommended_backend(const P& problem, unsigned threads, bool cuda_d
   return recommended_backend_explained(problem, threads, cuda_device, rule).kind;
 }
 
+/**
+ * @brief The backend to compute shape functions on @p problem by default (the diagram solve before
+ *        them included). Their work is many independent searches (one per query for Sibson and
+ *        Laplace, two per node for Distance Ratio), which the Thrust policies share among the host's
+ *        threads at any problem size, so the domain-size lines of recommended_backend_explained()
+ *        do not apply (measured with two threads below its 2^18 voxels: docs/backends.md,
+ *        "Choosing a backend"):
+ *  1. cuda when @p cuda_device (as recommended_backend_explained());
+ *  2. seq when fewer than rule.min_threads threads;
+ *  3. thrust otherwise.
+ */
+template <class P>
+backend_choice recommended_shape_backend_explained(const P& problem, unsigned threads, bool cuda_device = false,
+                                                   const backend_rule& rule = {}) {
+  backend_choice c = recommended_backend_explained(problem, threads, cuda_device, rule);
+  if (c.kind == backend_kind::sequential && c.facts.threads >= rule.min_threads) {
+    c.kind = backend_kind::thrust;
+    c.reason = "shape functions and several threads: their searches are shared among the threads at any size";
+  }
+  return c;
+}
+
+/// recommended_shape_backend_explained(...).kind.
+template <class P>
+backend_kind recommended_shape_backend(const P& problem, unsigned threads, bool cuda_device = false,
+                                       const backend_rule& rule = {}) {
+  return recommended_shape_backend_explained(problem, threads, cuda_device, rule).kind;
+}
+
 }  // namespace geovoronoi
