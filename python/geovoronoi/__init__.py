@@ -65,7 +65,8 @@ def backends() -> list:
 
 
 def default_backend() -> str:
-    """The backend that ``backend="auto"`` picks here: ``"thrust"`` when it is built and the
+    """The backend that ``backend="auto"`` picks here for a large problem (a smaller one runs on
+    ``"seq"``; see :func:`voronoi`): ``"thrust"`` when it is built and the
     machine has more than one hardware thread, else ``"seq"``."""
     return _ext._resolve_backend("auto")
 
@@ -447,7 +448,11 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
     world : bool
         Seeds are world points, each rounded to the nearest voxel centre.
     backend : {"auto", "seq", "thrust"}
-        ``seq``: sequential Dijkstra; ``thrust``: Thrust on OpenMP threads (when built).
+        ``seq``: sequential Dijkstra; ``thrust``: Thrust on OpenMP threads (when built); ``auto``:
+        the library's per-problem rule, as the C++ tool's default (``thrust`` when built, with more
+        than one thread to use and a domain of at least 2**18 voxels filling at least 5 % of the
+        grid; else ``seq``; :func:`shape_functions` drops the domain condition). Every backend gives
+        the same result, bit for bit.
     threads : int, optional
         OpenMP threads for ``thrust`` (default: OpenMP's default); ``seq`` accepts only 1.
     progress : callable, optional

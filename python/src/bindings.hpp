@@ -28,6 +28,7 @@
 #include <nanobind/stl/vector.h>
 
 #include <geovoronoi.hpp>
+#include <geovoronoi/backend/choose.hpp>
 #include <geovoronoi/io/metaimage.hpp>
 #include <geovoronoi/io/vti.hpp>
 #include <geovoronoi/shape_functions.hpp>
@@ -69,6 +70,8 @@ using in_array = nb::ndarray<nb::ro, nb::c_contig, nb::device::cpu>;
 inline std::atomic<std::uintptr_t> last_field_address{0};
 /// Wall time of the last library call alone, without the binding's work (for the overhead benchmark).
 inline std::atomic<double> last_core_seconds{0.0};
+/// The backend the last solve or shape-function call ran on: 0 seq, 1 thrust (a test hook for "auto").
+inline std::atomic<int> last_backend{-1};
 
 /// NumPy array over the vector `v`, moved into a capsule that frees it with the array.
 template <class T>
@@ -150,8 +153,8 @@ inline bool thrust_built() {
 #endif
 }
 
-/// The backend "auto" stands for: thrust (OpenMP) when built and more than one hardware thread is
-/// there, else seq (the rule of the command-line tool).
+/// The backend a name stands for before the problem is known (names checked): "auto" is thrust
+/// (OpenMP) when built and more than one hardware thread is there, else seq (default_backend()).
 inline std::string resolve_backend(const std::string& b) {
   if (b == "auto") return thrust_built() && std::thread::hardware_concurrency() > 1 ? "thrust" : "seq";
   if (b == "seq") return b;
@@ -162,6 +165,21 @@ inline std::string resolve_backend(const std::string& b) {
   if (b == "cuda")
     throw std::invalid_argument("geovoronoi: backend 'cuda' is not built into this package (CPU backends only: seq, thrust)");
   throw std::invalid_argument("geovoronoi: unknown backend '" + b + "' (auto, seq or thrust)");
+}
+
+/// The backend @p b names for problem @p p. "auto" follows the library's per-problem rule, as the
+/// command-line tool's default does (backend/choose.hpp, docs/backends.md): thrust when it is built,
+/// the call may use more than one thread (threads=, else OpenMP's limit) and, for a Voronoi solve,
+/// the domain is large enough to share (shape functions share their searches at any size); else seq.
+template <class P>
+std::string resolve_backend_for(const std::string& b, const P& p, int threads, bool shape_functions) {
+  if (b != "auto" || !thrust_built()) return resolve_backend(b);
+  unsigned t = threads > 0 ? unsigned(threads) : std::thread::hardware_concurrency();
+#if defined(_OPENMP)
+  if (threads <= 0) t = unsigned(omp_get_max_threads());
+#endif
+  const auto k = shape_functions ? gv::recommended_shape_backend(p, t) : gv::recommended_backend(p, t);
+  return k == gv::backend_kind::thrust ? "thrust" : "seq";
 }
 
 /// Sets the OpenMP thread count of the calling thread's parallel regions for its lifetime.
@@ -192,9 +210,13 @@ struct thread_count_scope {
 template <class F>
 decltype(auto) with_backend(const std::string& backend, F&& f) {
 #if defined(GEOVORONOI_PY_THRUST)
-  if (backend == "thrust") return f(gv::thrust::par);
+  if (backend == "thrust") {
+    last_backend = 1;
+    return f(gv::thrust::par);
+  }
 #endif
   (void)backend;
+  last_backend = 0;
   return f(gv::seq);
 }
 
@@ -278,6 +300,14 @@ struct problem_args {
   int threads = 0;
 };
 
+/// An explicit "seq" with threads > 1 is a contradiction (auto may pick seq for a small problem: the
+/// thread count is then a limit it did not need).
+inline void check_threads(const problem_args& a) {
+  if (resolve_backend(a.backend) == "seq" && (a.backend == "seq" || !thrust_built()) && a.threads > 1)
+    throw std::invalid_argument("geovoronoi: backend 'seq' runs on one thread; threads=" + std::to_string(a.threads) +
+                                " needs backend 'thrust'");
+}
+
 template <int Dim>
 std::vector<gv::coord<Dim>> seeds_to_coords(const gv::grid<Dim>& g, const in_array& seeds, bool world) {
   if (seeds.ndim() != 2 || seeds.shape(1) != std::size_t(Dim))
@@ -326,10 +356,7 @@ nb::object voronoi_impl(const problem_args& a, const in_array& seeds, bool world
   const auto coords = seeds_to_coords<Dim>(g, seeds, world);
   const T* field = static_cast<const T*>(a.field.data());
   last_field_address = reinterpret_cast<std::uintptr_t>(field);
-  const std::string backend = resolve_backend(a.backend);
-  if (backend == "seq" && a.threads > 1)
-    throw std::invalid_argument("geovoronoi: backend 'seq' runs on one thread; threads=" + std::to_string(a.threads) +
-                                " needs backend 'thrust'");
+  check_threads(a);
   gv::solve_options opt;
   opt.with_parent = with_parent;
   opt.threads = a.threads > 0 ? unsigned(a.threads) : 0u;
@@ -349,7 +376,8 @@ nb::object voronoi_impl(const problem_args& a, const in_array& seeds, bool world
       with_connectivity<Dim>(a.connectivity, [&](auto conn) {
         const auto p0 = gv::make_problem(g, gv::image_view<const T, Dim>(g, field), metric, conn);
         with_problem<Cuts>(p0, cut, [&](const auto& p) {
-          with_backend(backend, [&](const auto& policy) { h->d = gv::voronoi(policy, p, coords, opt); });
+          with_backend(resolve_backend_for(a.backend, p, a.threads, false),
+                       [&](const auto& policy) { h->d = gv::voronoi(policy, p, coords, opt); });
         });
       });
     });
@@ -384,10 +412,7 @@ gv::diagram<T, Dim>& checked_diagram(const problem_args& a, diagram_handle& h) {
 
 inline gv::shape_options make_shape_options(const problem_args& a, const std::string& method, int k,
                                             std::size_t batch_size, progress_bridge& bridge) {
-  const std::string backend = resolve_backend(a.backend);
-  if (backend == "seq" && a.threads > 1)
-    throw std::invalid_argument("geovoronoi: backend 'seq' runs on one thread; threads=" + std::to_string(a.threads) +
-                                " needs backend 'thrust'");
+  check_threads(a);
   gv::shape_options opt;
   opt.method = parse_method(method);
   opt.max_nodes_per_voxel = k;
@@ -461,7 +486,6 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
   last_field_address = reinterpret_cast<std::uintptr_t>(field);
   progress_bridge bridge{progress, 0.0, std::nullopt};
   const gv::shape_options opt = make_shape_options(a, method, k, batch_size, bridge);
-  const std::string backend = resolve_backend(a.backend);
   // Without points: every voxel (shape_functions); with points: only those voxels (shape_functions_at),
   // given as int64 array indices [z, y, x] already bounds-checked by the Python layer.
   std::optional<std::vector<gv::coord<Dim>>> at;
@@ -474,7 +498,7 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
       with_connectivity<Dim>(a.connectivity, [&](auto conn) {
         const auto p0 = gv::make_problem(g, gv::image_view<const T, Dim>(g, field), metric, conn);
         with_problem<Cuts>(p0, &h.cuts, [&](const auto& p) {
-          with_backend(backend, [&](const auto& policy) {
+          with_backend(resolve_backend_for(a.backend, p, a.threads, true), [&](const auto& policy) {
             auto take = [&](auto&& w) {
               kk = std::size_t(w.k);
               nodes = w.nodes;

@@ -146,7 +146,6 @@ nb::object shape_update_impl(const problem_args& a, diagram_handle& before, diag
                                 std::to_string(rows) + " rows x k = " + std::to_string(k));
   progress_bridge bridge{progress, 0.0, std::nullopt};
   const gv::shape_options opt = make_shape_options(a, method, k, batch_size, bridge);
-  const std::string backend = resolve_backend(a.backend);
   const auto* np = static_cast<const label_t*>(old_node.data());
   const auto* wp = static_cast<const T*>(old_weight.data());
   std::vector<label_t> node(np, np + old_node.size());
@@ -162,7 +161,7 @@ nb::object shape_update_impl(const problem_args& a, diagram_handle& before, diag
       with_connectivity<Dim>(a.connectivity, [&](auto conn) {
         const auto p0 = gv::make_problem(g, gv::image_view<const T, Dim>(g, field), metric, conn);
         with_all_cuts(p0, c.all, [&](const auto& p) {
-          with_backend(backend, [&](const auto& policy) {
+          with_backend(resolve_backend_for(a.backend, p, a.threads, true), [&](const auto& policy) {
             if (points) {
               gv::point_weights<T> w;
               w.points = rows;

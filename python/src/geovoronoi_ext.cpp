@@ -420,6 +420,10 @@ NB_MODULE(_geovoronoi, m) {
         "Test hook: address of the field buffer the last solve viewed.");
   m.def("_last_core_seconds", []() { return last_core_seconds.load(); },
         "Benchmark hook: wall time of the last library call alone.");
+  m.def("_last_backend", []() -> std::string {
+    const int b = last_backend.load();
+    return b == 1 ? "thrust" : b == 0 ? "seq" : "";
+  }, "Test hook: the backend the last solve or shape-function call ran on.");
   m.def("_backends", []() {
     std::vector<std::string> b{"seq"};
     if (thrust_built()) b.push_back("thrust");

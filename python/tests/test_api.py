@@ -212,6 +212,31 @@ def test_shape_functions_backends_bitwise_equal():
     assert np.array_equal(a.data.view(np.uint32), b.data.view(np.uint32))
 
 
+def test_auto_backend_follows_the_per_problem_rule():
+    """backend="auto" picks as the C++ tool's default does: a solve on a small domain runs on seq
+    whatever the threads, on a domain of 2**18 voxels on thrust with two threads and seq with one;
+    shape functions run on thrust with two threads at any size, on seq with one."""
+    if "thrust" not in gv.backends():
+        pytest.skip("the thrust backend is not built into this package: auto is always seq")
+    small = field3()
+    gv.voronoi(small, SEEDS3, threads=2)
+    assert ext._last_backend() == "seq"
+    gv.shape_functions(small, SEEDS3, method="distance_ratio", threads=2)
+    assert ext._last_backend() == "thrust"
+    gv.shape_functions(small, SEEDS3, method="sibson", threads=1)
+    assert ext._last_backend() == "seq"
+    big = np.ones((4, 256, 256), np.float32)  # 2**18 voxels, all inside
+    seeds = np.array([[0, 0, 0], [3, 255, 255]])
+    d1 = gv.voronoi(big, seeds, threads=1)
+    assert ext._last_backend() == "seq"
+    d2 = gv.voronoi(big, seeds, threads=2)
+    assert ext._last_backend() == "thrust"
+    assert np.array_equal(d1.label, d2.label)
+    assert np.array_equal(d1.distance.view(np.uint32), d2.distance.view(np.uint32))
+    gv.voronoi(big, seeds, backend="seq")
+    assert ext._last_backend() == "seq"
+
+
 def test_shape_functions_with_masked_diagram():
     f = field3()
     mask = np.ones(f.shape, bool)
