@@ -1,17 +1,22 @@
 #!/usr/bin/env bash
-# The README's test command: installs what it needs from Debian's packages if missing, builds
-# everything (every backend this machine supports, the tool, benchmarks, examples, header checks)
-# with g++ at -O1 and -Werror and runs ctest (unit tests, CLI tests, consumer projects, and every
-# benchmark once as a smoke test), builds the Python package (g++ -O3, -Werror) and runs its pytest
-# suite, builds and runs the tests again with clang under AddressSanitizer +
-# UndefinedBehaviorSanitizer, then fuzzes the parsers. Any failure fails it. Prints each stage's
-# time. docs/testing.md says what each stage covers and what it costs.
+# The README's test command: installs what it needs from Debian's packages if missing, builds and
+# runs every test, and fails at the first failure. Prints each stage's time. docs/testing.md says what
+# each stage covers and what it costs. Two builds, each source compiled once:
+# - the host suites (every tests/*.test.cpp, the sequential, sparse and Thrust OpenMP backend, shape
+#   and update suites, the compile-fail tests) are built once, with clang at -O0 -g1 under
+#   AddressSanitizer + UndefinedBehaviorSanitizer and -Werror (build-sanitize/), and run there; this
+#   stage runs in the background from the start (scripts/lib/sanitizer-stage.sh, log
+#   build-sanitize/stage.log);
+# - everything else is built with g++ at -O1 and -Werror (build-test/): the CLI tool and its
+#   end-to-end tests, the benchmarks (run once each as a smoke test: ctest label `bench`), the
+#   examples, the compile-only header checks, the consumer projects, the suites the sanitizer build
+#   does not have (the full Thrust OpenMP backend matrix, the Thrust CPP and TBB suites, the nvcc units);
+# - the Python package (scripts/test-python.sh; g++ -O1 and -Werror here, -O3 in a user's
+#   `pip install .`) and its pytest suite, which checks it against SciPy, scikit-image and, byte for
+#   byte, the C++ tool of the g++ build;
+# - the parsers fuzzed (libFuzzer, clang, ASan + UBSan).
 #
 # To stay fast on a 2-core machine (figures: docs/testing.md):
-# - the test build is g++ -O1 (folder build-test/, so an optimised build/ for benchmarks is never
-#   replaced); the optimised code is still tested: the Python extension is compiled at -O3 (every
-#   solver, shape function and reader it binds), and its pytest suite checks it against SciPy,
-#   scikit-image and, byte for byte, the C++ tool of the test build;
 # - Ninja (Debian's ninja-build) instead of make when it is there;
 # - each nvcc translation unit is compiled once, for ONE architecture (GEOVORONOI_CUDA_ARCHITECTURES):
 #   on a machine with a GPU "80" (sm_80 code plus PTX that newer GPUs compile at load time); without
@@ -20,18 +25,15 @@
 #   suites' reduced type/connectivity matrix (GEOVORONOI_TEST_CUDA_REDUCED_MATRIX), and NVVM runs
 #   with nvcc's fastest device-compile setting (-Ofc max, where nvcc has it);
 # - the Thrust CPP and TBB suites run a reduced type/metric matrix (the code they share with the
-#   OpenMP suite is that suite's full matrix; what differs is the Thrust system);
+#   OpenMP suite is that suite's full matrix; what differs is the Thrust system); under the sanitizers
+#   the Thrust OpenMP suite runs the reduced matrix too (the full one runs in the g++ build);
 # - the benchmarks run one short iteration per case at most 32 voxels per side (ctest label
 #   `bench`), not timed runs;
-# - the sanitizer build has only the tests that run: no benchmarks, no CUDA units, no tool, no
-#   examples, no compile-only header checks (all of those were built and run in the first stage), no
-#   Thrust CPP/TBB suites, and the Thrust OpenMP suite on the reduced matrix (the full one ran in the
-#   first stage; what the sanitizers look for is in the code paths, which the reduced matrix runs).
-#   It is clang at -O0 with line tables (-g1): a quarter of the compile time of -O1 (which loses no
-#   finding: ASan and UBSan check every access and operation the code performs at any level); the
-#   tests run about four times slower, far less than the compile time saved;
-# - the sanitizer build runs in the background while ctest and the Python stage run (both leave a
-#   core idle much of the time), and the four fuzzers run side by side, one per core.
+# - the sanitizer build is clang at -O0 with line tables (-g1): a quarter of the compile time of -O1
+#   (which loses no finding: ASan and UBSan check every access and operation the code performs at
+#   any level); the tests run about four times slower, far less than the compile time saved;
+# - the sanitizer stage runs alongside the g++ build, its ctest and the Python stage (each of which
+#   leaves a core idle some of the time), and the four fuzzers run side by side, one per core.
 
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -58,7 +60,8 @@ times=()
 # CPU seconds (user + system) of the finished child processes so far: with the machine shared, the
 # CPU time of a stage says more than its wall time
 # (bash's `times`, run in this shell, not in a subshell, whose children would be none; a background
-# job counts once it has been waited for)
+# job counts once bash has reaped it, which it does as soon as the job ends: the sanitizer stage's
+# CPU time is counted in the stage during which it ended)
 cpu_file=$(mktemp)
 child_cpu() {
   times > "$cpu_file"
@@ -102,51 +105,50 @@ if [ "$gpu" = 0 ]; then
     cuda_flags="$cuda_flags -Ofc=max"
   fi
 fi
-echo "== test build (g++ -O1, -Werror, CUDA architecture ${cuda_arch}, nvcc ${cuda_flags}, ${generator})"
-configure build-test -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
-      -DCMAKE_CUDA_FLAGS_RELEASE="$cuda_flags" -DGEOVORONOI_WERROR=ON \
-      -DGEOVORONOI_CUDA_ARCHITECTURES="$cuda_arch" -DGEOVORONOI_TEST_CUDA_REDUCED_MATRIX="$reduced_cuda"
-cmake --build build-test -j"$jobs"
-stage_done "test build"
-
-# ---- ASan + UBSan build of the tests, in the background (log: build-sanitize/build.log) ----
+# ---- ASan + UBSan: the host suites, built and run in the background from the start ----
 # clang when present (test.sh installs it): its ASan + UBSan build of the tests costs about 0.6 of
 # GCC's at the same -O1 -g1 (GCC's UBSan instrumentation is the difference); -O0 instead of -O1 cuts
-# its compile time to between a quarter and a half (docs/testing.md). Warnings were made errors in
-# the release stage, on the same sources; this stage is for what runs.
+# its compile time to between a quarter and a half (docs/testing.md).
 san_cxx=$(command -v clang++ || command -v g++)
-echo "== ASan + UBSan build (tests only, $(basename "$san_cxx") -O0 -g1) started in the background"
+echo "== ASan + UBSan stage (the host suites, $(basename "$san_cxx") -O0 -g1, -Werror) started in the background"
 configure build-sanitize -DCMAKE_CXX_COMPILER="$san_cxx" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O0 -g1 -DNDEBUG" \
-      -DGEOVORONOI_SANITIZE=ON -DGEOVORONOI_WERROR=OFF \
+      -DGEOVORONOI_SANITIZE=ON -DGEOVORONOI_WERROR=ON \
       -DGEOVORONOI_BUILD_BENCH=OFF -DGEOVORONOI_BUILD_TOOLS=OFF -DGEOVORONOI_BUILD_EXAMPLES=OFF \
       -DGEOVORONOI_HEADER_CHECKS=OFF -DGEOVORONOI_CUDA=OFF -DGEOVORONOI_TEST_EXTRA_THRUST_SYSTEMS=OFF \
-      -DGEOVORONOI_TEST_REDUCED_MATRIX=ON
+      -DGEOVORONOI_TEST_REDUCED_MATRIX=ON -DGEOVORONOI_TEST_HOST_SUITES=ON
 san_start=$SECONDS
-setsid cmake --build build-sanitize -j"$jobs" > build-sanitize/build.log 2>&1 &
+setsid scripts/lib/sanitizer-stage.sh "$jobs" > build-sanitize/stage.log 2>&1 &
 san_pid=$!
 
+echo "== g++ build (g++ -O1, -Werror, CUDA architecture ${cuda_arch}, nvcc ${cuda_flags}, ${generator})"
+configure build-test -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
+      -DCMAKE_CUDA_FLAGS_RELEASE="$cuda_flags" -DGEOVORONOI_WERROR=ON \
+      -DGEOVORONOI_CUDA_ARCHITECTURES="$cuda_arch" -DGEOVORONOI_TEST_CUDA_REDUCED_MATRIX="$reduced_cuda" \
+      -DGEOVORONOI_TEST_HOST_SUITES=OFF
+cmake --build build-test -j"$jobs"
+stage_done "g++ build (sanitizer stage alongside)"
+
 ctest --test-dir build-test --output-on-failure -j"$jobs"
-stage_done "ctest (sanitizer build alongside)"
+stage_done "g++ ctest (sanitizer stage alongside)"
 
-echo "== Python package (pip install . into build-python/venv, pytest)"
-GEOVORONOI_CLI="$PWD/build-test/bin/geovoronoi" scripts/test-python.sh
-stage_done "python package (sanitizer build alongside)"
+echo "== Python package (pip install . into build-python/venv at -O1, pytest)"
+GEOVORONOI_CLI="$PWD/build-test/bin/geovoronoi" GEOVORONOI_PYTHON_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
+  scripts/test-python.sh
+stage_done "python package (sanitizer stage alongside)"
 
-echo "== waiting for the ASan + UBSan build"
+echo "== waiting for the ASan + UBSan stage"
 san_rc=0
 wait "$san_pid" || san_rc=$?
 san_pid=""
+grep -E "^== |tests passed|tests failed" build-sanitize/stage.log || true
 if [ "$san_rc" -ne 0 ]; then
-  tail -n 60 build-sanitize/build.log
-  echo "the ASan + UBSan build failed (build-sanitize/build.log)"
+  tail -n 80 build-sanitize/stage.log
+  echo "the ASan + UBSan stage failed (build-sanitize/stage.log)"
   exit 1
 fi
-stage_done "sanitizer build, rest"
-echo "   (the sanitizer build took $((SECONDS - san_start)) s from its start, alongside ctest and Python)"
-ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  ctest --test-dir build-sanitize --output-on-failure -j"$jobs" -LE "consumer|fuzz"
-stage_done "sanitizer ctest"
+stage_done "sanitizer stage, rest"
+echo "   (the ASan + UBSan stage took $((SECONDS - san_start)) s from its start, alongside the stages above)"
 
 # ---- fuzzing: libFuzzer on the MetaImage, NumPy, PGM/PPM and STL/OBJ parsers ----
 # Built apart with clang in build-fuzz/ (only the fuzz targets), each run for a bounded time on a
