@@ -233,12 +233,14 @@ std::size_t fused_worker_budget(const P& p, std::size_t nodes) {
 
 #ifdef GEOVORONOI_FUSED_LANES
 /// Bytes one sixteen-lane worker is budgeted (besides the shared tables): its dense arrays, room for a
-/// touched list of the whole grid and a queue of half of it, the accumulators of its lanes.
+/// touched list of the whole grid (twice: Laplace sorts it) and a queue of half of it, the accumulators
+/// of its lanes and the per-owner vectors of its AVX-512 facet pass (four 64-byte blocks per node).
 template <class P>
 std::size_t fused_lanes_worker_bytes(const P& p, std::size_t nodes) {
   const std::size_t n = std::size_t(p.geometry.size());
-  return fused_lanes_padded<P>::dense_bytes(p) + n * sizeof(std::uint32_t) +
-         n / 2 * fused_lanes_padded<P>::heap_item_bytes() + fused_lanes_padded<P>::lanes * (nodes * 64 + 4096) + 65536;
+  return fused_lanes_padded<P>::dense_bytes(p) + 2 * n * sizeof(std::uint32_t) +
+         n / 2 * fused_lanes_padded<P>::heap_item_bytes() + fused_lanes_padded<P>::lanes * (nodes * 64 + 4096) +
+         nodes * (4 * 64 + 8) + 65536;
 }
 
 /// Whether Sibson/Laplace on problem @p p with @p policy run the sixteen-lane search (fused_lanes.hpp)
