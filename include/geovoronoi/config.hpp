@@ -16,6 +16,15 @@
 #define GEOVORONOI_HOST_DEVICE
 #endif
 
+/// Keeps a rarely taken helper out of line, so that the hot loop calling it keeps its registers.
+#if defined(__GNUC__) || defined(__clang__)
+#define GEOVORONOI_NOINLINE __attribute__((noinline))
+#elif defined(_MSC_VER)
+#define GEOVORONOI_NOINLINE __declspec(noinline)
+#else
+#define GEOVORONOI_NOINLINE
+#endif
+
 namespace geovoronoi {
 
 /// Linear voxel index. Always 64-bit: a 2048^3 volume has 8.6e9 voxels.

@@ -18,6 +18,7 @@
 /// re-solved with its subtree; once every reached voxel has a realiser, the keys are the unique
 /// solution the full solve computes.
 
+#include <geovoronoi/config.hpp>
 #include <geovoronoi/cut.hpp>
 #include <geovoronoi/detail/dijkstra/engine.hpp>
 #include <geovoronoi/detail/key.hpp>
@@ -116,6 +117,8 @@ class voxel_bits {
     return true;
   }
   void erase(index_t v) noexcept { w_[std::size_t(v >> 6)] &= ~(std::uint64_t(1) << (v & 63)); }
+  /// The words (bit v of word v / 64), for loops that keep the pointer in a register.
+  std::uint64_t* words() noexcept { return w_.data(); }
 
  private:
   std::vector<std::uint64_t> w_;
@@ -264,6 +267,12 @@ struct parent_candidate {
   int k;
 };
 
+/// Appends a parent candidate; out of line, so that the settle loop keeps its registers for the
+/// common case (a candidate is recorded for a small fraction of the edges).
+GEOVORONOI_NOINLINE inline void add_candidate(std::vector<parent_candidate>& c, index_t x, index_t y, int k) {
+  c.push_back({x, y, k});
+}
+
 /// Dijkstra over the diagram's own images that may lower any key (the engine's relaxation, bit for
 /// bit: same skip, mask, weight check and overflow rule), recording every voxel it lowers and setting
 /// each settled voxel's parent as it pops: its realisers have smaller keys, so they are final then.
@@ -275,24 +284,26 @@ std::size_t settle(const P& after, diagram<typename P::value_type, P::dim>& d, r
   using T = typename P::value_type;
   using kt = key_traits<T>;
   const T inf = std::numeric_limits<T>::infinity();
-  // the images through raw pointers: the vectors' own data pointers would be reloaded after every
-  // push_back (an opaque call)
+  // the images and the bit set through raw pointers: the vectors' own data pointers would be
+  // reloaded after every push_back (an opaque call)
   T* const dist = d.distance.data();
   label_t* const lab = d.label.data();
   index_t* const par = d.parent.data();
   const T* const field = after.field;
   const index_t* const seeds = d.seeds.data();
   const std::size_t seed_count = d.seeds.size();
+  std::uint64_t* const lowered_words = lowered_bits.words();
+  auto was_lowered = [lowered_words](index_t u) { return (lowered_words[u >> 6] >> (u & 63)) & 1u; };
   std::size_t settled = 0;
   while (!heap.empty()) {
     const auto it = heap.pop();
     const index_t v = it.voxel;
+    const auto vkey = it.key;
     const label_t l = lab[v];
-    if (l == no_label || it.key != kt::make(dist[v], l)) continue;  // stale entry
+    if (l == no_label || vkey != kt::make(dist[v], l)) continue;  // stale entry
     ++settled;
     const T dv = dist[v];
     const T fv = field[v];
-    const bool source = std::size_t(l) < seed_count && seeds[std::size_t(l)] == v && dv == T(0);
     index_t best = no_index;
     walk.for_each_neighbour(after, v, [&](int k, index_t u) {
       const label_t lu = lab[u];
@@ -300,17 +311,15 @@ std::size_t settle(const P& after, diagram<typename P::value_type, P::dim>& d, r
       // an unreached voxel holds (+inf, no_label), whose key orders above every reached key, as the
       // unreached sentinel does
       const auto ku = kt::make(du, lu);
-      if (!(it.key < ku)) {  // u's key is not larger: final, nothing to relax
+      if (!(vkey < ku)) {  // u's key is not larger: final, nothing to relax
         if (lu == l) {
           // a realiser if u + w(u -> v) gives v's key (the walker visits neighbours in increasing
-          // index order: the first realiser is the parent)
-          if (!source && best == no_index &&
-              kt::make(du + after.metric(after.edges.length[k], field[u], fv), l) == it.key)
-            best = u;
+          // index order: the first realiser is the parent; a source keeps none, below)
+          if (best == no_index && kt::make(du + after.metric(after.edges.length[k], field[u], fv), l) == vkey) best = u;
           // an equal distance (a zero or absorbed weight): v may realise u's key too
-          if (du == dv && !lowered_bits.test(u)) candidates.push_back({v, u, k});
-        } else if (par[u] == v && !lowered_bits.test(u)) {  // another label: v was its parent?
-          candidates.push_back({v, u, k});
+          if (du == dv && !was_lowered(u)) add_candidate(candidates, v, u, k);
+        } else if (par[u] == v && !was_lowered(u)) {  // another label: v was its parent?
+          add_candidate(candidates, v, u, k);
         }
         return;
       }
@@ -325,12 +334,14 @@ std::size_t settle(const P& after, diagram<typename P::value_type, P::dim>& d, r
         lab[u] = l;
         if (lowered_bits.insert(u)) lowered.push_back(u);
         heap.push(nk, u);
-      } else if (!lowered_bits.test(u) && (par[u] == v || (nk == ku && lu == l))) {
+      } else if (!was_lowered(u) && (par[u] == v || (nk == ku && lu == l))) {
         // not lowered (yet): v was u's parent, or realises u's key; decided once every key is final
-        candidates.push_back({v, u, k});
+        add_candidate(candidates, v, u, k);
       }
     });
-    par[v] = best;
+    // voronoi()'s sources (node l on voxel v at distance 0) have no parent
+    const bool source = dv == T(0) && std::size_t(l) < seed_count && seeds[std::size_t(l)] == v;
+    par[v] = source ? no_index : best;
   }
   return settled;
 }
@@ -494,7 +505,9 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
   voxel_bits in_boundary(n);
   std::size_t boundary = 0;
   const T inf = std::numeric_limits<T>::infinity();
-  auto pull = [&](index_t x, bool count_boundary) {
+  // a changed voxel that stayed valid pulls from the valid neighbours (the invalidated ones hold
+  // start keys by then, not final ones)
+  auto pull = [&](index_t x) {
     if (!after.inside(x)) return;  // a voxel outside the domain stays unreached
     const auto now = keys.get(x);
     auto best = now;
@@ -503,7 +516,6 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
       if (in_invalid.test(u)) return;
       const label_t lu = d.label[u];
       if (lu == no_label) return;
-      if (count_boundary && in_boundary.insert(u)) ++boundary;
       const T nd = d.distance[u] + after.metric(after.edges.length[k], after.field[u], fx);
       if (!(nd < inf)) return;
       const auto c = kt::make(nd, lu);
@@ -512,10 +524,34 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
     if (best < now) keys.set(x, best);
     if (best != kt::unreached) heap.push(best, x);
   };
-  for (index_t x : invalid) pull(x, true);
+  // the invalidated voxels pull from their valid neighbours; until every pull is known their keys
+  // stay unreached (the reset above), so a labelled neighbour is a valid one and no set test is needed
+  {
+    std::vector<std::pair<index_t, typename kt::key_type>> start;
+    start.reserve(invalid.size());
+    for (const index_t x : invalid) {
+      if (!after.inside(x)) continue;  // a voxel outside the domain stays unreached
+      auto best = kt::unreached;
+      const T fx = after.field[x];
+      walk.for_each_neighbour(after, x, [&](int k, index_t u) {
+        const label_t lu = d.label[u];
+        if (lu == no_label) return;
+        if (in_boundary.insert(u)) ++boundary;
+        const T nd = d.distance[u] + after.metric(after.edges.length[k], after.field[u], fx);
+        if (!(nd < inf)) return;
+        const auto c = kt::make(nd, lu);
+        if (c < best) best = c;
+      });
+      if (best != kt::unreached) start.emplace_back(x, best);
+    }
+    for (const auto& [x, k] : start) {
+      keys.set(x, k);
+      heap.push(k, x);
+    }
+  }
   if (any_field)
     for (index_t x : changed)
-      if (!in_invalid.test(x)) pull(x, false);
+      if (!in_invalid.test(x)) pull(x);
   std::vector<index_t> restarted;
   for (std::size_t j = 0; j < nodes.size(); ++j)
     if (fresh[j] || in_invalid.test(nodes[j])) {
