@@ -27,6 +27,15 @@ GEOVORONOI_BENCH_MAIN()
 namespace {
 namespace gvb = geovoronoi;
 
+/// Writes one byte per cache line of a 64 MiB buffer (twice the 32 MiB L3 of the development VM):
+/// afterwards nothing the next timed step reads is in any cache level. For the `_cold` cases.
+void evict_caches() {
+  static std::vector<unsigned char> buffer(std::size_t(64) << 20);
+  for (std::size_t i = 0; i < buffer.size(); i += 64) buffer[i] = static_cast<unsigned char>(buffer[i] + 1);
+  benchmark::DoNotOptimize(buffer.data());
+  benchmark::ClobberMemory();
+}
+
 struct steak_cut_case {
   gvb::image<float, 3> field;
   std::vector<gvb::coord<3>> seeds;
@@ -51,21 +60,29 @@ struct steak_cut_case {
   }
 };
 
-void bench_full_steak128(benchmark::State& state) {
+void bench_full_steak128(benchmark::State& state, bool cold) {
   const auto& c = steak_cut_case::get();
   const auto p = gvb::make_problem(c.field.geometry(), c.field, gvb::min_stiffness{}, gvb::connectivity<26>{});
   const auto after = gvb::with_cuts(p, c.table);
   for (auto _ : state) {
+    if (cold) {
+      state.PauseTiming();
+      evict_caches();
+      state.ResumeTiming();
+    }
     auto d = gvb::voronoi(gvb::seq, after, c.seeds, gvb::solve_options{true});
     benchmark::DoNotOptimize(d);
   }
 }
 
 /// Times update_in_place(seq, after, d, change) on a copy of @p before that is restored outside the
-/// timer before every iteration; returns the last iteration's statistics.
+/// timer before every iteration; returns the last iteration's statistics. @p cold: the caches are
+/// also emptied (evict_caches) after the restore, outside the timer. Warm, the bench repeats the same
+/// update on a region that the previous iteration left in L2; cold is the other bound (an
+/// application that ran other work between two edits lies in between).
 template <class P, class Change>
 gvb::update_stats time_updates(benchmark::State& state, const P& after, const gvb::diagram<float, 3>& before,
-                               const Change& change) {
+                               const Change& change, bool cold = false) {
   auto d = before;
   gvb::update_stats s;
   for (auto _ : state) {
@@ -74,6 +91,7 @@ gvb::update_stats time_updates(benchmark::State& state, const P& after, const gv
     d.label = before.label;
     d.parent = before.parent;
     d.seeds = before.seeds;
+    if (cold) evict_caches();
     state.ResumeTiming();
     s = gvb::update_in_place(gvb::seq, after, d, change);
     benchmark::DoNotOptimize(d);
@@ -81,12 +99,12 @@ gvb::update_stats time_updates(benchmark::State& state, const P& after, const gv
   return s;
 }
 
-void bench_update_steak128_cut20(benchmark::State& state) {
+void bench_update_steak128_cut20(benchmark::State& state, bool cold) {
   const auto& c = steak_cut_case::get();
   const auto p = gvb::make_problem(c.field.geometry(), c.field, gvb::min_stiffness{}, gvb::connectivity<26>{});
   const auto after = gvb::with_cuts(p, c.table);
   const auto before = gvb::voronoi(gvb::seq, p, c.seeds, gvb::solve_options{true});
-  const auto s = time_updates(state, after, before, c.blade);
+  const auto s = time_updates(state, after, before, c.blade, cold);
   state.counters["cut_edges"] = double(c.blade.size());
   state.counters["invalidated"] = double(s.invalidated);
   state.counters["boundary"] = double(s.boundary);
@@ -140,7 +158,7 @@ void bench_update_steak128_restiffen8(benchmark::State& state, float factor) {
 // the node with the largest cell (about 40 % of the domain) does. A move re-solves the moved node's
 // whole cell, so its cost is proportional to that cell. The diagram (and its node list) is restored
 // outside the timer.
-void bench_update_steak128_nodes(benchmark::State& state, int move) {
+void bench_update_steak128_nodes(benchmark::State& state, int move, bool cold = false) {
   const auto& c = steak_cut_case::get();
   const auto& g = c.field.geometry();
   const auto p = gvb::make_problem(g, c.field, gvb::min_stiffness{}, gvb::connectivity<26>{});
@@ -164,7 +182,7 @@ void bench_update_steak128_nodes(benchmark::State& state, int move) {
     while (!(c.field[g.index(at)] > 0.0f)) ++at[0];
     ch.nodes = {gvb::node_edit<3>::add(at)};
   }
-  const auto s = time_updates(state, p, before, ch);
+  const auto s = time_updates(state, p, before, ch, cold);
   state.counters["invalidated"] = double(s.invalidated);
   state.counters["lowered"] = double(s.lowered);
   state.counters["settled"] = double(s.settled);
@@ -238,11 +256,25 @@ GEOVORONOI_BENCH_REGISTER(register_update_cases) {
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime()
       ->Apply(geovoronoi::bench::min_time_1s);
-  benchmark::RegisterBenchmark("voronoi/seq/steak128", bench_full_steak128)
+  benchmark::RegisterBenchmark("voronoi/seq/steak128", [](benchmark::State& s) { bench_full_steak128(s, false); })
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime()
       ->Apply(geovoronoi::bench::min_time_1s);
-  benchmark::RegisterBenchmark("update/seq/steak128/cut20", bench_update_steak128_cut20)
+  benchmark::RegisterBenchmark("update/seq/steak128/cut20", [](benchmark::State& s) { bench_update_steak128_cut20(s, false); })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Apply(geovoronoi::bench::min_time_1s);
+  // the same three with every cache emptied before each timed step (evict_caches)
+  benchmark::RegisterBenchmark("voronoi/seq/steak128_cold", [](benchmark::State& s) { bench_full_steak128(s, true); })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Apply(geovoronoi::bench::min_time_1s);
+  benchmark::RegisterBenchmark("update/seq/steak128/cut20_cold", [](benchmark::State& s) { bench_update_steak128_cut20(s, true); })
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->Apply(geovoronoi::bench::min_time_1s);
+  benchmark::RegisterBenchmark("update/seq/steak128/add_node_cold",
+                               [](benchmark::State& s) { bench_update_steak128_nodes(s, 0, true); })
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime()
       ->Apply(geovoronoi::bench::min_time_1s);
