@@ -252,64 +252,25 @@ void bench_update_steak128_sweep(benchmark::State& state, bool with_cut) {
 }  // namespace
 
 GEOVORONOI_BENCH_REGISTER(register_update_cases) {
-  benchmark::RegisterBenchmark("update/seq/steak128/carve8", bench_update_steak128_carve8)
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->Apply(geovoronoi::bench::min_time_1s);
-  benchmark::RegisterBenchmark("voronoi/seq/steak128", [](benchmark::State& s) { bench_full_steak128(s, false); })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->Apply(geovoronoi::bench::min_time_1s);
-  benchmark::RegisterBenchmark("update/seq/steak128/cut20", [](benchmark::State& s) { bench_update_steak128_cut20(s, false); })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->Apply(geovoronoi::bench::min_time_1s);
-  // the same three with every cache emptied before each timed step (evict_caches)
-  benchmark::RegisterBenchmark("voronoi/seq/steak128_cold", [](benchmark::State& s) { bench_full_steak128(s, true); })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->Apply(geovoronoi::bench::min_time_1s);
-  benchmark::RegisterBenchmark("update/seq/steak128/cut20_cold", [](benchmark::State& s) { bench_update_steak128_cut20(s, true); })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->Apply(geovoronoi::bench::min_time_1s);
-  benchmark::RegisterBenchmark("update/seq/steak128/add_node_cold",
-                               [](benchmark::State& s) { bench_update_steak128_nodes(s, 0, true); })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->Apply(geovoronoi::bench::min_time_1s);
-  benchmark::RegisterBenchmark("update/seq/steak128/stiffen8",
-                               [](benchmark::State& s) { bench_update_steak128_restiffen8(s, 2.0f); })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->Apply(geovoronoi::bench::min_time_1s);
-  benchmark::RegisterBenchmark("update/seq/steak128/soften8",
-                               [](benchmark::State& s) { bench_update_steak128_restiffen8(s, 0.5f); })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->Apply(geovoronoi::bench::min_time_1s);
-  benchmark::RegisterBenchmark("update/seq/steak128/add_node",
-                               [](benchmark::State& s) { bench_update_steak128_nodes(s, 0); })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->Apply(geovoronoi::bench::min_time_1s);
-  benchmark::RegisterBenchmark("update/seq/steak128/move_node",
-                               [](benchmark::State& s) { bench_update_steak128_nodes(s, 1); })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->Apply(geovoronoi::bench::min_time_1s);
-  benchmark::RegisterBenchmark("update/seq/steak128/move_node_largest",
-                               [](benchmark::State& s) { bench_update_steak128_nodes(s, 2); })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->Apply(geovoronoi::bench::min_time_1s);
-  benchmark::RegisterBenchmark("update/seq/steak128/sweep", [](benchmark::State& s) { bench_update_steak128_sweep(s, false); })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->Apply(geovoronoi::bench::min_time_1s);
-  benchmark::RegisterBenchmark("update/seq/steak128/sweep_with_cut",
-                               [](benchmark::State& s) { bench_update_steak128_sweep(s, true); })
-      ->Unit(benchmark::kMillisecond)
-      ->UseRealTime()
-      ->Apply(geovoronoi::bench::min_time_1s);
+  // every case in milliseconds of wall time, at least a second of iterations
+  auto add = [](const char* name, void (*fn)(benchmark::State&)) {
+    benchmark::RegisterBenchmark(name, fn)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime()
+        ->Apply(geovoronoi::bench::min_time_1s);
+  };
+  add("update/seq/steak128/carve8", bench_update_steak128_carve8);
+  add("voronoi/seq/steak128", [](benchmark::State& s) { bench_full_steak128(s, false); });
+  add("update/seq/steak128/cut20", [](benchmark::State& s) { bench_update_steak128_cut20(s, false); });
+  // the cold variants empty every cache before each timed step (evict_caches)
+  add("voronoi/seq/steak128_cold", [](benchmark::State& s) { bench_full_steak128(s, true); });
+  add("update/seq/steak128/cut20_cold", [](benchmark::State& s) { bench_update_steak128_cut20(s, true); });
+  add("update/seq/steak128/add_node_cold", [](benchmark::State& s) { bench_update_steak128_nodes(s, 0, true); });
+  add("update/seq/steak128/stiffen8", [](benchmark::State& s) { bench_update_steak128_restiffen8(s, 2.0f); });
+  add("update/seq/steak128/soften8", [](benchmark::State& s) { bench_update_steak128_restiffen8(s, 0.5f); });
+  add("update/seq/steak128/add_node", [](benchmark::State& s) { bench_update_steak128_nodes(s, 0); });
+  add("update/seq/steak128/move_node", [](benchmark::State& s) { bench_update_steak128_nodes(s, 1); });
+  add("update/seq/steak128/move_node_largest", [](benchmark::State& s) { bench_update_steak128_nodes(s, 2); });
+  add("update/seq/steak128/sweep", [](benchmark::State& s) { bench_update_steak128_sweep(s, false); });
+  add("update/seq/steak128/sweep_with_cut", [](benchmark::State& s) { bench_update_steak128_sweep(s, true); });
 }

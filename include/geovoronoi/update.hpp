@@ -505,43 +505,35 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
   voxel_bits in_boundary(n);
   std::size_t boundary = 0;
   const T inf = std::numeric_limits<T>::infinity();
-  // a changed voxel that stayed valid pulls from the valid neighbours (the invalidated ones hold
-  // start keys by then, not final ones)
-  auto pull = [&](index_t x) {
-    if (!after.inside(x)) return;  // a voxel outside the domain stays unreached
-    const auto now = keys.get(x);
-    auto best = now;
+  // The least key that x's reached neighbours offer over their edges to x, passing over those that
+  // skip(u) rejects; seen(u) is told of every reached neighbour considered.
+  auto least_offer = [&](index_t x, auto&& skip, auto&& seen) {
+    auto best = kt::unreached;
     const T fx = after.field[x];
     walk.for_each_neighbour(after, x, [&](int k, index_t u) {
-      if (in_invalid.test(u)) return;
       const label_t lu = d.label[u];
-      if (lu == no_label) return;
+      if (lu == no_label || skip(u)) return;
+      seen(u);
       const T nd = d.distance[u] + after.metric(after.edges.length[k], after.field[u], fx);
       if (!(nd < inf)) return;
       const auto c = kt::make(nd, lu);
       if (c < best) best = c;
     });
-    if (best < now) keys.set(x, best);
-    if (best != kt::unreached) heap.push(best, x);
+    return best;
   };
+  auto none = [](index_t) { return false; };
+  auto ignore = [](index_t) {};
   // the invalidated voxels pull from their valid neighbours; until every pull is known their keys
-  // stay unreached (the reset above), so a labelled neighbour is a valid one and no set test is needed
+  // stay unreached (the reset above), so a reached neighbour is a valid one and no set test is needed
   {
     std::vector<std::pair<index_t, typename kt::key_type>> start;
     start.reserve(invalid.size());
+    auto count_boundary = [&](index_t u) {
+      if (in_boundary.insert(u)) ++boundary;
+    };
     for (const index_t x : invalid) {
       if (!after.inside(x)) continue;  // a voxel outside the domain stays unreached
-      auto best = kt::unreached;
-      const T fx = after.field[x];
-      walk.for_each_neighbour(after, x, [&](int k, index_t u) {
-        const label_t lu = d.label[u];
-        if (lu == no_label) return;
-        if (in_boundary.insert(u)) ++boundary;
-        const T nd = d.distance[u] + after.metric(after.edges.length[k], after.field[u], fx);
-        if (!(nd < inf)) return;
-        const auto c = kt::make(nd, lu);
-        if (c < best) best = c;
-      });
+      const auto best = least_offer(x, none, count_boundary);
       if (best != kt::unreached) start.emplace_back(x, best);
     }
     for (const auto& [x, k] : start) {
@@ -549,9 +541,16 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
       heap.push(k, x);
     }
   }
+  // a changed voxel that stayed valid pulls from the valid neighbours (the invalidated ones hold
+  // start keys by then, not final ones)
   if (any_field)
-    for (index_t x : changed)
-      if (!in_invalid.test(x)) pull(x);
+    for (index_t x : changed) {
+      if (in_invalid.test(x) || !after.inside(x)) continue;  // outside the domain: stays unreached
+      const auto now = keys.get(x);
+      const auto best = std::min(now, least_offer(x, [&](index_t u) { return in_invalid.test(u); }, ignore));
+      if (best < now) keys.set(x, best);
+      if (best != kt::unreached) heap.push(best, x);
+    }
   std::vector<index_t> restarted;
   for (std::size_t j = 0; j < nodes.size(); ++j)
     if (fresh[j] || in_invalid.test(nodes[j])) {
@@ -642,15 +641,7 @@ update_stats apply(const P& after, diagram<typename P::value_type, P::dim>& d, c
     heap.clear();  // the radix heap is monotone: start a new run from an empty one
     for (index_t x : redo) {
       if (!after.inside(x)) continue;
-      auto best = kt::unreached;
-      const T fx = after.field[x];
-      walk.for_each_neighbour(after, x, [&](int k, index_t u) {
-        if (in_redo.test(u) || d.label[u] == no_label) return;
-        const T nd = d.distance[u] + after.metric(after.edges.length[k], after.field[u], fx);
-        if (!(nd < inf)) return;
-        const auto c = kt::make(nd, d.label[u]);
-        if (c < best) best = c;
-      });
+      auto best = least_offer(x, [&](index_t u) { return in_redo.test(u); }, ignore);
       const long j = node_at(x);  // a node's voxel that another node's key had taken at distance 0
       if (j >= 0 && kt::make(T(0), label_t(j)) < best) best = kt::make(T(0), label_t(j));
       if (best != kt::unreached) {
