@@ -28,21 +28,27 @@ def long_shape_problem(n=20):
 
 def test_gil_is_released_during_a_solve():
     """While a solve runs in another thread, this thread keeps running Python code: the longest
-    pause it sees is a small part of the solve (with the GIL held it would be the whole solve)."""
+    pause it sees is a small part of the solve (with the GIL held it would be the whole solve).
+    A busy machine can deschedule this thread for a while by itself (CI runs other stages beside the
+    tests), so the measurement gets three tries; with the GIL held every try fails."""
     field, seeds = big_problem()
-    t0 = time.perf_counter()
-    gv.voronoi(field, seeds, backend="seq")
-    alone = time.perf_counter() - t0
-    worker = threading.Thread(target=gv.voronoi, args=(field, seeds), kwargs=dict(backend="seq"))
-    ticks = []
-    worker.start()
-    while worker.is_alive():
-        ticks.append(time.perf_counter())
-        time.sleep(0.001)
-    worker.join()
-    gaps = np.diff(ticks) if len(ticks) > 1 else np.array([alone])
-    assert len(ticks) > 10, f"this thread ran {len(ticks)} times during a {alone:.2f} s solve"
-    assert gaps.max() < 0.5 * alone, f"longest pause {gaps.max():.3f} s during a {alone:.3f} s solve"
+    tries = []
+    for _ in range(3):
+        t0 = time.perf_counter()
+        gv.voronoi(field, seeds, backend="seq")
+        alone = time.perf_counter() - t0
+        worker = threading.Thread(target=gv.voronoi, args=(field, seeds), kwargs=dict(backend="seq"))
+        ticks = []
+        worker.start()
+        while worker.is_alive():
+            ticks.append(time.perf_counter())
+            time.sleep(0.001)
+        worker.join()
+        longest = float(np.diff(ticks).max()) if len(ticks) > 1 else alone
+        tries.append(f"{len(ticks)} ticks, longest pause {longest:.3f} s during a {alone:.3f} s solve")
+        if len(ticks) > 10 and longest < 0.5 * alone:
+            return
+    pytest.fail("this thread was held up during the solve in every try: " + "; ".join(tries))
 
 
 def test_two_threads_solve_side_by_side():
