@@ -59,6 +59,11 @@ TEST_CASE("shape update after random sequences of edits equals a full recompute,
   }
   CHECK(t.recomputed - before.recomputed < (t.rows - before.rows) * 3 / 4);
   CHECK(t.changed - before.changed > 0);
+  // Distance Ratio with its searches kept: checked as often, and mostly repaired, not recomputed
+  MESSAGE("distance ratio with kept searches: " << t.kept - before.kept << " updates, "
+                                                << t.kept_partial - before.kept_partial << " recomputed fewer rows than all");
+  CHECK(t.kept - before.kept > 500);
+  CHECK(t.kept_partial - before.kept_partial > (t.kept - before.kept) / 4);
 }
 
 TEST_CASE("shape update after one kind of edit at a time (cuts, carving, added voxels, field, nodes)") {

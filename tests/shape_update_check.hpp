@@ -33,6 +33,8 @@ struct shape_update_totals {
   std::size_t rows = 0, recomputed = 0, changed = 0;
   std::array<std::size_t, 3> per_method{};  // voxel updates per method
   std::array<std::size_t, 3> partial_per_method{};  // of which recomputed fewer rows than all
+  std::size_t kept = 0;          // Distance Ratio updates of weights that keep the nodes' searches
+  std::size_t kept_partial = 0;  // of which recomputed fewer rows than all (the searches repaired)
 };
 inline shape_update_totals& shape_totals() {
   static shape_update_totals t;
@@ -143,6 +145,15 @@ struct shape_tracker {
           s.w = gv::shape_functions(policy, p, after, s.opt);
           slots.push_back(std::move(s));
         }
+      {  // Distance Ratio keeping the nodes' searches with the weights (repaired by the updates)
+        slot s;
+        s.opt.method = gv::shape_method::distance_ratio;
+        s.opt.max_nodes_per_voxel = ks[(cases + 1) % 3];
+        s.opt.keep_update_state = true;
+        s.w = gv::shape_functions(policy, p, after, s.opt);
+        REQUIRE(s.w.update_state != nullptr);
+        slots.push_back(std::move(s));
+      }
       point_opt.method = methods[cases % 3];
       point_opt.max_nodes_per_voxel = ks[(cases / 3) % 3];
       points.clear();
@@ -185,8 +196,8 @@ struct shape_tracker {
     };
     auto& t = shape_totals();
     for (auto& sl : slots) {
-      const std::string id = what + " method " + method_name(sl.opt.method) + " K " +
-                             std::to_string(sl.opt.max_nodes_per_voxel);
+      const std::string id = what + " method " + method_name(sl.opt.method) + (sl.opt.keep_update_state ? " (kept)" : "") +
+                             " K " + std::to_string(sl.opt.max_nodes_per_voxel);
       const auto s = update(sl.w, sl.opt, t.updates % 2 == 0);
       const auto full = gv::shape_functions(policy, p, after, sl.opt);
       if (!same_weights(sl.w, full)) {
@@ -200,6 +211,13 @@ struct shape_tracker {
       CHECK(s.region_voxels == s.recomputed);  // one row per voxel
       CHECK(s.changed_voxels <= s.region_voxels);  // X lies in R
       if (s.full) CHECK(s.recomputed == s.rows);
+      if (sl.opt.keep_update_state) {  // the searches are renewed (repaired, or run again after node edits)
+        CHECK(sl.w.update_state != nullptr);
+        ++t.kept;
+        t.kept_partial += s.recomputed < s.rows;
+      } else {
+        CHECK(sl.w.update_state == nullptr);
+      }
       ++t.updates;
       const std::size_t mi = sl.opt.method == gv::shape_method::distance_ratio ? 0
                              : sl.opt.method == gv::shape_method::sibson       ? 1

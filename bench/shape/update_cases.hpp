@@ -1,5 +1,8 @@
 // Shape functions after a change (shape_update.hpp, issue 14), written once; each backend's file
-// registers them with its policy. Names: shape_update/<method>/<backend>/steak128/<edit>.
+// registers them with its policy. Names: shape_update/<method>/<backend>/steak128/<edit>, and
+// shape_update/distance_ratio_kept/... for Distance Ratio computed with keep_update_state (the update
+// repairs the kept searches; its baseline full_cpu_s is still the plain computation, and
+// full_kept_cpu_s the one that keeps them).
 //
 // The problem is exactly `shape/<method>/<backend>/steak128` (cases.hpp: the 128x96x32 steak, its 12
 // spread nodes, min_stiffness, 26-connected); the edits are those of bench/voronoi/seq.cpp:
@@ -77,30 +80,37 @@ inline steak_edit make_steak_edit(const volume& c, const std::string& edit) {
 /// The weights before the edit, computed once per method in this process, and the CPU seconds that took.
 template <class Policy>
 const std::pair<gv::shape_weights<float, 3>, double>& weights_before(Policy policy, const volume& c,
-                                                                    const gv::diagram<float, 3>& d, gv::shape_method m) {
+                                                                    const gv::diagram<float, 3>& d, gv::shape_method m,
+                                                                    bool kept = false) {
   static std::map<int, std::pair<gv::shape_weights<float, 3>, double>> cache;
-  const auto it = cache.find(int(m));
+  const int key = int(m) + (kept ? 16 : 0);
+  const auto it = cache.find(key);
   if (it != cache.end()) return it->second;
   const auto p = gv::make_problem(c.g, c.field, gv::min_stiffness{}, gv::connectivity<26>{});
   gv::shape_options o;
   o.method = m;
+  o.keep_update_state = kept;
   const double t0 = cpu_seconds();
   auto w = gv::shape_functions(policy, p, d, o);
   const double t = cpu_seconds() - t0;
-  return cache.emplace(int(m), std::make_pair(std::move(w), t)).first->second;
+  return cache.emplace(key, std::make_pair(std::move(w), t)).first->second;
 }
 
 template <class Policy>
-void run_update_case(benchmark::State& state, Policy policy, gv::shape_method m, const std::string& edit) {
+void run_update_case(benchmark::State& state, Policy policy, gv::shape_method m, const std::string& edit,
+                     bool kept = false) {
   static const auto c = make_case("steak128");
   const auto p = gv::make_problem(c->g, c->field, gv::min_stiffness{}, gv::connectivity<26>{});
   const auto before = gv::voronoi(gv::seq, p, c->nodes, gv::solve_options{true});
   const auto e = make_steak_edit(*c, edit);
-  const auto& cached = weights_before(policy, *c, before, m);
+  // the baseline is always the plain computation (what recomputing all weights costs)
+  const double full_cpu = weights_before(policy, *c, before, m).second;
+  const auto& cached = weights_before(policy, *c, before, m, kept);
   const auto& w0 = cached.first;
-  const double full_cpu = cached.second;
+  if (kept) state.counters["full_kept_cpu_s"] = cached.second;
   gv::shape_options o;
   o.method = m;
+  o.keep_update_state = kept;
   auto measure = [&](const auto& after) {
     const auto d_after = gv::update(gv::seq, after, before, e.change);
     auto w = w0;
@@ -112,6 +122,7 @@ void run_update_case(benchmark::State& state, Policy policy, gv::shape_method m,
       std::copy(w0.node.begin(), w0.node.end(), w.node.begin());
       std::copy(w0.weight.begin(), w0.weight.end(), w.weight.begin());
       w.nodes = w0.nodes;
+      w.update_state = w0.update_state;
       state.ResumeTiming();
       const double t0 = cpu_seconds();
       s = gv::update_shape_functions_in_place(policy, after, before, d_after, w, e.change, o);
@@ -154,18 +165,21 @@ template <class Policy>
 void register_update_cases(Policy policy, const std::string& backend) {
   if (std::getenv("GEOVORONOI_BENCH_SMOKE") != nullptr) return;
   for (const auto m : {gv::shape_method::distance_ratio, gv::shape_method::sibson, gv::shape_method::laplace})
-    for (const std::string edit : {"cut20", "carve8", "add_node"}) {
-      const std::string id = std::string("shape_update/") + method_name(m) + "/" + backend + "/steak128/" + edit;
-      auto b = benchmark::RegisterBenchmark(id.c_str(), [policy, m, edit](benchmark::State& st) {
-        run_update_case(st, policy, m, edit);
-      });
-      b->Unit(benchmark::kMillisecond)->UseRealTime();
-      // Distance Ratio updates take milliseconds: repeat; Sibson and Laplace: one shot
-      if (m == gv::shape_method::distance_ratio)
-        b->MinTime(1.0);
-      else
-        b->Iterations(1);
-    }
+    for (const bool kept : {false, true})
+      for (const std::string edit : {"cut20", "carve8", "add_node"}) {
+        if (kept && m != gv::shape_method::distance_ratio) continue;
+        const std::string id = std::string("shape_update/") + method_name(m) + (kept ? "_kept" : "") + "/" + backend +
+                               "/steak128/" + edit;
+        auto b = benchmark::RegisterBenchmark(id.c_str(), [policy, m, edit, kept](benchmark::State& st) {
+          run_update_case(st, policy, m, edit, kept);
+        });
+        b->Unit(benchmark::kMillisecond)->UseRealTime();
+        // Distance Ratio updates take milliseconds: repeat; Sibson and Laplace: one shot
+        if (m == gv::shape_method::distance_ratio)
+          b->MinTime(1.0);
+        else
+          b->Iterations(1);
+      }
 }
 
 }  // namespace gvbench_shape

@@ -68,7 +68,8 @@ shape_update_stats update_shape_functions_in_place(const Policy& policy, const P
     throw std::invalid_argument("geovoronoi::update_shape_functions: the weights were computed on another grid");
   const auto chg = detail::shape::as_change<P::dim>(c);
   shape_update_stats s;
-  detail::shape::update_rows(policy, after, d_before, d_after, chg, opt, w.k, w.nodes, nullptr, w.node, w.weight, s);
+  detail::shape::update_rows(policy, after, d_before, d_after, chg, opt, w.k, w.nodes, nullptr, w.node, w.weight, s,
+                             &w.update_state);
   return s;
 }
 

@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <stdexcept>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -41,6 +43,188 @@ inline void insert_slot(label_t* node, double* raw, int k, label_t i, double w) 
   raw[at] = w;
 }
 
+/// One node's searches as Distance Ratio ran them: its bound d_max, its own distance d_i over its
+/// support (d_i < 2 d_max) and its frontier distance d_B (< d_max), each sorted by voxel. An
+/// isolated one-voxel cell (d_max = 0) holds only its voxel, at distance 0, and no frontier.
+/// The lists are shared between the states of successive updates where they did not change.
+template <class T>
+struct dr_node {
+  using voxels = std::shared_ptr<const std::vector<index_t>>;
+  using values = std::shared_ptr<const std::vector<T>>;
+  T dmax = T(0);
+  voxels support;
+  values di;
+  voxels frontier;
+  values db;
+};
+
+/// A list moved into a shared, immutable one.
+template <class V>
+std::shared_ptr<const V> share(V&& v) {
+  return std::make_shared<const V>(std::forward<V>(v));
+}
+
+/// The node of an isolated one-voxel cell.
+template <class T>
+dr_node<T> isolated_node(T dmax, index_t node_voxel) {
+  return dr_node<T>{dmax, share(std::vector<index_t>{node_voxel}), share(std::vector<T>{T(0)}),
+                    share(std::vector<index_t>{}), share(std::vector<T>{})};
+}
+
+/// What shape_options::keep_update_state keeps in the weights (shape_weights::update_state): every
+/// node's searches, so that update_shape_functions() repairs them instead of running them again.
+template <class T>
+struct distance_ratio_state {
+  std::vector<index_t> seeds;
+  std::vector<dr_node<T>> nodes;
+};
+
+/// The value at @p v of a sorted (voxel, value) list, or +inf.
+template <class T>
+T sorted_at(const std::vector<index_t>& voxel, const std::vector<T>& value, index_t v) noexcept {
+  const auto it = std::lower_bound(voxel.begin(), voxel.end(), v);
+  return (it != voxel.end() && *it == v) ? value[std::size_t(it - voxel.begin())] : std::numeric_limits<T>::infinity();
+}
+
+/// The cells as voxel lists (counting sort by label; each list sorted by voxel): cell i is
+/// members[start[i], start[i + 1]).
+struct cell_lists {
+  std::vector<std::size_t> start;
+  std::vector<index_t> members;
+};
+inline cell_lists cells_of(const label_t* lab, index_t n, label_t nodes) {
+  cell_lists c;
+  c.start.assign(std::size_t(nodes) + 1, 0);
+  for (index_t v = 0; v < n; ++v)
+    if (lab[v] != no_label) ++c.start[std::size_t(lab[v]) + 1];
+  for (label_t i = 0; i < nodes; ++i) c.start[std::size_t(i) + 1] += c.start[std::size_t(i)];
+  c.members.resize(c.start.back());
+  std::vector<std::size_t> fill(c.start.begin(), c.start.end() - 1);
+  for (index_t v = 0; v < n; ++v)
+    if (lab[v] != no_label) c.members[fill[std::size_t(lab[v])]++] = v;
+  return c;
+}
+
+/// Node i's bound d_max: the largest distance over its cell and the cell's face neighbours in other cells.
+template <class P, class T>
+T node_bound(const P& p, const std::vector<face<P::dim>>& faces, const T* dist, const label_t* lab, label_t i,
+             const index_t* cell, std::size_t cell_size) {
+  T dmax = T(0);
+  for (std::size_t j = 0; j < cell_size; ++j) {
+    const index_t x = cell[j];
+    dmax = std::max(dmax, dist[x]);
+    const auto c = p.geometry.coords(x);
+    std::uint64_t cut = 0;  // (face_in_grid, with the voxel's cut bits read once)
+    if constexpr (P::has_cuts) cut = std::uint64_t(p.cut_mask(x));
+    for (const auto& f : faces) {
+      const index_t to = c[f.axis] + f.dir;
+      if (!(to >= 0 && to < p.geometry.extent(f.axis)) || ((cut >> f.edge) & 1u)) continue;
+      const index_t y = x + f.delta;
+      if (lab[y] != no_label && lab[y] != i) dmax = std::max(dmax, dist[y]);
+    }
+  }
+  return dmax;
+}
+
+/**
+ * The sources of node i's frontier search: on both sides of every face between cell i and a cell j,
+ * at their distance to the point where d_i = d_j along the path i -> x -> y -> j, below d_max; one per
+ * voxel (its least), sorted by voxel. @p di_at(v) is node i's own distance at v (+inf outside its support).
+ */
+template <class P, class T, class DiAt>
+std::vector<source<T>> frontier_sources(const P& p, const std::vector<face<P::dim>>& faces, const T* dist,
+                                        const label_t* lab, label_t i, const index_t* cell, std::size_t cell_size,
+                                        T dmax, DiAt&& di_at) {
+  std::vector<source<T>> frontier;
+  for (std::size_t j = 0; j < cell_size; ++j) {
+    const index_t x = cell[j];
+    const auto c = p.geometry.coords(x);
+    for (const auto& f : faces) {
+      if (!face_in_grid(p, x, c, f)) continue;
+      const index_t y = x + f.delta;
+      if (lab[y] == no_label || lab[y] == i) continue;
+      const T diy = di_at(y);
+      if (!(diy < std::numeric_limits<T>::infinity())) continue;
+      const T dby = T(0.5) * (diy - dist[y]);
+      const T mid = T(0.5) * (dist[y] + diy);
+      const T dbx = std::max(T(0), mid - dist[x]);
+      if (dby < dmax) frontier.push_back({y, dby, 0});
+      if (dbx < dmax) frontier.push_back({x, dbx, 0});
+    }
+  }
+  std::sort(frontier.begin(), frontier.end(), [](const source<T>& a, const source<T>& b) {
+    return a.voxel < b.voxel || (a.voxel == b.voxel && a.distance < b.distance);
+  });
+  frontier.erase(std::unique(frontier.begin(), frontier.end(),
+                             [](const source<T>& a, const source<T>& b) { return a.voxel == b.voxel; }),
+                 frontier.end());
+  return frontier;
+}
+
+/**
+ * Node i's two searches (steps 2 and 3 of distance_ratio_rows), given its bound @p dmax > 0: its own
+ * distance over its support d_i < 2 d_max (from the offset table @p tab when there is one) and the
+ * frontier distance d_B, capped at d_max.
+ */
+template <class Policy, class P, class Tab>
+dr_node<typename P::value_type> node_searches(const Policy& policy, const P& p, const std::vector<face<P::dim>>& faces,
+                                              const typename P::value_type* dist, const label_t* lab, label_t i,
+                                              index_t node_voxel, const index_t* cell, std::size_t cell_size,
+                                              typename P::value_type dmax, const Tab* tab) {
+  using T = typename P::value_type;
+  dr_node<T> s;
+  s.dmax = dmax;
+  const T radius = T(2) * dmax;
+  auto di = tab ? tab->ball(node_voxel, radius)
+                : dispatch::bounded(policy, p, std::vector<source<T>>{{node_voxel, T(0), 0}}, radius);
+  s.support = share(std::move(di.voxel));
+  s.di = share(std::move(di.distance));
+  const auto frontier = frontier_sources(p, faces, dist, lab, i, cell, cell_size, dmax,
+                                         [&](index_t v) { return sorted_at(*s.support, *s.di, v); });
+  // the frontier is valid as built: reached voxels, distinct after the unique above, distances
+  // finite and >= +0 (a difference of equal floats is +0, and max(0, x) never gives -0 here)
+  sparse_solution<T> db;
+  if (!frontier.empty()) db = dispatch::bounded(policy, p, frontier, dmax);  // d_B is capped at dmax
+  s.frontier = share(std::move(db.voxel));
+  s.db = share(std::move(db.distance));
+  return s;
+}
+
+/// Node i's raw weights over its support, merged with d_B (both sorted by voxel): f(x, w) for each w > 0.
+template <class T, class F>
+void node_raw_weights(const dr_node<T>& s, const label_t* lab, label_t i, F&& f) {
+  const auto &support = *s.support, &frontier = *s.frontier;
+  const auto &di = *s.di, &db = *s.db;
+  std::size_t b = 0;
+  for (std::size_t j = 0; j < support.size(); ++j) {
+    const index_t x = support[j];
+    while (b < frontier.size() && frontier[b] < x) ++b;
+    const T dbx = (b < frontier.size() && frontier[b] == x) ? db[b] : s.dmax;
+    const double wx = distance_ratio_weight(double(di[j]), double(dbx), lab[x] == i);
+    if (wx > 0) f(x, wx);
+  }
+}
+
+/// Step 5 for one voxel: its K slots (nodes, with raw weights in @p raw) normalised in place; a node's
+/// voxel gets the Kronecker delta, a voxel outside every cell empty slots.
+template <class T>
+void finish_row(label_t lv, T dv, int k, label_t* node, T* weight, const double* raw, std::vector<candidate>& cand) {
+  if (lv == no_label) {
+    for (int s = 0; s < k; ++s) node[s] = no_label;
+    return;
+  }
+  if (dv == T(0)) {  // a node: Kronecker delta (another node's outside weight is ~0 there anyway)
+    for (int s = 0; s < k; ++s) node[s] = no_label;
+    node[0] = lv;
+    weight[0] = T(1);
+    return;
+  }
+  cand.clear();
+  for (int s = 0; s < k && node[s] != no_label; ++s) cand.push_back({node[s], raw[s]});
+  for (int s = 0; s < k; ++s) node[s] = no_label;
+  store(cand, k, node, weight);
+}
+
 /**
  * Distance Ratio rows: for every voxel of the grid (@p voxel_of null, rows = grid size, row r = voxel r)
  * or for the voxels voxel_of[0, rows) (chosen points, repeats allowed), into the K slots of each row of
@@ -51,10 +235,12 @@ inline void insert_slot(label_t* node, double* raw, int k, label_t i, double w) 
  */
 template <class Policy, class P, class D, class Options>
 void distance_ratio_rows(const Policy& policy, const P& p, const D& d, const Options& opt, int k, std::size_t node_count,
-                         const index_t* voxel_of, std::size_t rows, label_t* out_node, typename P::value_type* out_weight) {
+                         const index_t* voxel_of, std::size_t rows, label_t* out_node, typename P::value_type* out_weight,
+                         distance_ratio_state<typename P::value_type>* keep = nullptr) {
   using T = typename P::value_type;
   const index_t n = p.geometry.size();
   const label_t nodes = label_t(node_count);
+  if (keep && voxel_of) throw std::logic_error("geovoronoi: Distance Ratio keeps its searches only on the whole grid");
   // compact slots: the voxel itself for the whole grid, else one slot per distinct chosen voxel
   std::vector<std::int64_t> slot_of;
   std::vector<index_t> slot_voxel;
@@ -76,17 +262,11 @@ void distance_ratio_rows(const Policy& policy, const P& p, const D& d, const Opt
   const auto faces = faces_of(p);
   const T* dist = d.distance.data();
   const label_t* lab = d.label.data();
-
-  // the cells as voxel lists (counting sort by label; each list sorted by voxel)
-  std::vector<std::size_t> start(std::size_t(nodes) + 1, 0);
-  for (index_t v = 0; v < n; ++v)
-    if (lab[v] != no_label) ++start[std::size_t(lab[v]) + 1];
-  for (label_t i = 0; i < nodes; ++i) start[std::size_t(i) + 1] += start[std::size_t(i)];
-  std::vector<index_t> members(start.back());
-  {
-    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (index_t v = 0; v < n; ++v)
-      if (lab[v] != no_label) members[fill[std::size_t(lab[v])]++] = v;
+  const cell_lists cells = cells_of(lab, n, nodes);
+  const auto& start = cells.start;
+  if (keep) {
+    keep->seeds = d.seeds;
+    keep->nodes.assign(std::size_t(nodes), dr_node<T>{});
   }
 
   // on a translation-invariant problem the node's own distance is a table lookup (no search)
@@ -106,78 +286,30 @@ void distance_ratio_rows(const Policy& policy, const P& p, const D& d, const Opt
       const label_t i = g0 + label_t(t);
       auto& out = contrib[std::size_t(t)];
       out.clear();
-      std::vector<source<T>> frontier;
-      const index_t* cell = members.data() + start[std::size_t(i)];
+      const index_t* cell = cells.members.data() + start[std::size_t(i)];
       const std::size_t cell_size = start[std::size_t(i) + 1] - start[std::size_t(i)];
       // 1. bound: the largest distance over the cell and its face neighbours in other cells
-      T dmax = T(0);
-      for (std::size_t j = 0; j < cell_size; ++j) {
-        const index_t x = cell[j];
-        dmax = std::max(dmax, dist[x]);
-        const auto c = p.geometry.coords(x);
-        for (const auto& f : faces) {
-          if (!face_in_grid(p, x, c, f)) continue;
-          const index_t y = x + f.delta;
-          if (lab[y] != no_label && lab[y] != i) dmax = std::max(dmax, dist[y]);
-        }
-      }
+      const T dmax = node_bound(p, faces, dist, lab, i, cell, cell_size);
       const index_t node_voxel = d.seeds[std::size_t(i)];
       if (!(dmax > T(0))) {  // an isolated one-voxel cell: only the node itself
         if (slot(node_voxel) >= 0) out.push_back({node_voxel, 1.0});
+        if (keep) keep->nodes[std::size_t(i)] = isolated_node(dmax, node_voxel);
         return;
       }
-      // 2. the node's own distance over its support d_i < 2 dmax
-      const T radius = T(2) * dmax;
-      if (voxel_of) {  // chosen points: skip a node whose support holds none of them
+      if (voxel_of) {  // chosen points: skip a node whose support (d_i < 2 dmax) holds none of them
+        const T radius = T(2) * dmax;
         bool any = false;
         for (std::size_t c = 0; c < slots && !any; ++c)
           any = lab[slot_voxel[c]] != no_label && dist[slot_voxel[c]] < radius;
         if (!any) return;
       }
-      const auto di = tab ? tab->ball(node_voxel, radius)
-                          : dispatch::bounded(policy, p, std::vector<source<T>>{{node_voxel, T(0), 0}}, radius);
-      auto di_at = [&](index_t v) -> T {
-        const auto it = std::lower_bound(di.voxel.begin(), di.voxel.end(), v);
-        return (it != di.voxel.end() && *it == v) ? di.distance[std::size_t(it - di.voxel.begin())]
-                                                  : std::numeric_limits<T>::infinity();
-      };
-      // 3. distance to the frontier: sources on both sides of every face between cell i and a cell j,
-      //    at their distance to the point where d_i = d_j along the path i -> x -> y -> j
-      for (std::size_t j = 0; j < cell_size; ++j) {
-        const index_t x = cell[j];
-        const auto c = p.geometry.coords(x);
-        for (const auto& f : faces) {
-          if (!face_in_grid(p, x, c, f)) continue;
-          const index_t y = x + f.delta;
-          if (lab[y] == no_label || lab[y] == i) continue;
-          const T diy = di_at(y);
-          if (!(diy < std::numeric_limits<T>::infinity())) continue;
-          const T dby = T(0.5) * (diy - dist[y]);
-          const T mid = T(0.5) * (dist[y] + diy);
-          const T dbx = std::max(T(0), mid - dist[x]);
-          if (dby < dmax) frontier.push_back({y, dby, 0});
-          if (dbx < dmax) frontier.push_back({x, dbx, 0});
-        }
-      }
-      std::sort(frontier.begin(), frontier.end(), [](const source<T>& a, const source<T>& b) {
-        return a.voxel < b.voxel || (a.voxel == b.voxel && a.distance < b.distance);
+      // 2.-3. the node's own distance over its support, the frontier distance
+      auto s = node_searches(policy, p, faces, dist, lab, i, node_voxel, cell, cell_size, dmax, tab ? &*tab : nullptr);
+      // 4. raw weights over the support
+      node_raw_weights(s, lab, i, [&](index_t x, double wx) {
+        if (slot(x) >= 0) out.push_back({x, wx});
       });
-      frontier.erase(std::unique(frontier.begin(), frontier.end(),
-                                 [](const source<T>& a, const source<T>& b) { return a.voxel == b.voxel; }),
-                     frontier.end());
-      sparse_solution<T> db;
-      // the frontier is valid as built: reached voxels, distinct after the unique above, distances
-      // finite and >= +0 (a difference of equal floats is +0, and max(0, x) never gives -0 here)
-      if (!frontier.empty()) db = dispatch::bounded(policy, p, frontier, dmax);  // d_B is capped at dmax
-      // 4. raw weights over the support, merged with d_B (both sorted by voxel)
-      std::size_t b = 0;
-      for (std::size_t j = 0; j < di.size(); ++j) {
-        const index_t x = di.voxel[j];
-        while (b < db.size() && db.voxel[b] < x) ++b;
-        const T dbx = (b < db.size() && db.voxel[b] == x) ? db.distance[b] : dmax;
-        const double wx = distance_ratio_weight(double(di.distance[j]), double(dbx), lab[x] == i);
-        if (wx > 0 && slot(x) >= 0) out.push_back({x, wx});
-      }
+      if (keep) keep->nodes[std::size_t(i)] = std::move(s);
     });
     for (label_t i = g0; i < g1; ++i) {
       for (const auto& [x, wx] : contrib[std::size_t(i - g0)]) {
@@ -195,22 +327,7 @@ void distance_ratio_rows(const Policy& policy, const P& p, const D& d, const Opt
   for (std::size_t c = 0; c < slots; ++c) {
     const index_t v = voxel_of ? slot_voxel[c] : index_t(c);
     const std::size_t at = c * std::size_t(k);
-    label_t* node = slot_node;
-    T* weight = slot_weight;
-    if (lab[v] == no_label) {
-      for (int s = 0; s < k; ++s) node[at + s] = no_label;
-      continue;
-    }
-    if (dist[v] == T(0)) {  // a node: Kronecker delta (another node's outside weight is ~0 there anyway)
-      for (int s = 0; s < k; ++s) node[at + s] = no_label;
-      node[at] = lab[v];
-      weight[at] = T(1);
-      continue;
-    }
-    cand.clear();
-    for (int s = 0; s < k && node[at + s] != no_label; ++s) cand.push_back({node[at + s], raw[at + s]});
-    for (int s = 0; s < k; ++s) node[at + s] = no_label;
-    store(cand, k, node + at, weight + at);
+    finish_row(lab[v], dist[v], k, slot_node + at, slot_weight + at, raw.data() + at, cand);
   }
   // 6. chosen points: each row copies its voxel's slots
   if (voxel_of)
@@ -226,8 +343,11 @@ void distance_ratio_rows(const Policy& policy, const P& p, const D& d, const Opt
 /// Distance Ratio at every voxel of the grid, into @p w.
 template <class Policy, class P, class D, class W, class Options>
 void distance_ratio(const Policy& policy, const P& p, const D& d, const Options& opt, W& w) {
+  std::shared_ptr<distance_ratio_state<typename P::value_type>> keep;
+  if (opt.keep_update_state) keep = std::make_shared<distance_ratio_state<typename P::value_type>>();
   distance_ratio_rows(policy, p, d, opt, w.k, w.nodes, static_cast<const index_t*>(nullptr),
-                      std::size_t(p.geometry.size()), w.node.data(), w.weight.data());
+                      std::size_t(p.geometry.size()), w.node.data(), w.weight.data(), keep.get());
+  w.update_state = std::move(keep);
 }
 
 }  // namespace geovoronoi::detail::shape

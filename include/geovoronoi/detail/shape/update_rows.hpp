@@ -7,6 +7,7 @@
 #include <geovoronoi/detail/dispatch.hpp>
 #include <geovoronoi/detail/shape/common.hpp>
 #include <geovoronoi/detail/shape/distance_ratio.hpp>
+#include <geovoronoi/detail/shape/distance_ratio_update.hpp>
 #include <geovoronoi/detail/shape/natural_neighbours.hpp>
 #include <geovoronoi/shape_functions.hpp>
 #include <geovoronoi/update.hpp>
@@ -16,6 +17,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <queue>
 #include <stdexcept>
 #include <string>
@@ -89,20 +91,6 @@ renumbering renumber(const grid<Dim>& g, const std::vector<index_t>& before, con
   r.identity = before.size() == after.size();
   for (std::size_t i = 0; i < r.to_new.size() && r.identity; ++i) r.identity = r.to_new[i] == label_t(i);
   return r;
-}
-
-/// Calls f(k, u) for every stencil neighbour u of @p v inside the grid, cut or not.
-template <class P, class F>
-void for_each_grid_neighbour(const P& p, index_t v, F&& f) {
-  const auto c = p.geometry.coords(v);
-  for (int k = 0; k < P::neighbours; ++k) {
-    bool in = true;
-    for (int a = 0; a < P::dim; ++a) {
-      const index_t x = c[std::size_t(a)] + p.edges.offset[k][a];
-      in = in && x >= 0 && x < p.geometry.extent(a);
-    }
-    if (in) f(k, v + p.edges.delta[k]);
-  }
 }
 
 /**
@@ -365,7 +353,8 @@ template <class Policy, class P, class D, class Options, class Stats>
 void update_rows(const Policy& policy, const P& after, const D& before, const D& d_after,
                  const change<P::dim>& c, const Options& opt, int k, std::size_t& nodes,
                  const std::vector<index_t>* row_list, std::vector<label_t>& node,
-                 std::vector<typename P::value_type>& weight, Stats& stats) {
+                 std::vector<typename P::value_type>& weight, Stats& stats,
+                 std::shared_ptr<const distance_ratio_state<typename P::value_type>>* state = nullptr) {
   using T = typename P::value_type;
   const std::string who = "geovoronoi::update_shape_functions: ";
   const index_t n = after.geometry.size();
@@ -389,8 +378,16 @@ void update_rows(const Policy& policy, const P& after, const D& before, const D&
   // X: voxels whose distance, (renumbered) label or field changed, and the ends of new cut edges
   update::voxel_bits x(n);
   std::vector<index_t> xs;
+  // and apart, XE: the voxels at a changed edge or field (what a search's distances depend on), and
+  // XF: those whose field changed (all their edges' weights may have changed)
+  update::voxel_bits xe(n), xf(n);
+  std::vector<index_t> xes;
   auto mark = [&](index_t v) {
     if (x.insert(v)) xs.push_back(v);
+  };
+  auto mark_edge = [&](index_t v) {
+    mark(v);
+    if (xe.insert(v)) xes.push_back(v);
   };
   for (index_t v = 0; v < n; ++v)
     if (!same_bits(before.distance[v], d_after.distance[v]) || ren(before.label[v]) != d_after.label[v]) mark(v);
@@ -398,7 +395,8 @@ void update_rows(const Policy& policy, const P& after, const D& before, const D&
     for (const index_t v : *list) {
       if (v < 0 || v >= n)
         throw std::invalid_argument(who + "the change lists voxel " + std::to_string(v) + ", outside the grid");
-      mark(v);
+      mark_edge(v);
+      xf.insert(v);
     }
   if (c.cut) {
     if (!(c.cut->geometry() == after.geometry) || c.cut->directions() != P::neighbours)
@@ -406,11 +404,23 @@ void update_rows(const Policy& policy, const P& after, const D& before, const D&
     for (const auto& e : *c.cut)
       for (int f = 0; f < P::neighbours / 2; ++f)
         if ((e.forward >> f) & 1u) {
-          mark(e.voxel);
-          mark(e.voxel + after.edges.delta[P::neighbours / 2 + f]);
+          mark_edge(e.voxel);
+          mark_edge(e.voxel + after.edges.delta[P::neighbours / 2 + f]);
         }
   }
   stats.changed_voxels = xs.size();
+
+  // Distance Ratio with the nodes' searches kept in the weights (same node list): repair them
+  if (state && *state && opt.method == shape_method::distance_ratio && !row_list && c.nodes.empty() &&
+      (*state)->seeds == before.seeds && d_after.seeds == before.seeds && (*state)->nodes.size() == nodes) {
+    *state = distance_ratio_update(policy, after, before, d_after, xs, xf, xes, **state, k, node, weight, stats);
+    report(opt.progress, 1.0);
+    return;
+  }
+  // the rows below are recomputed without the searches: they can be kept again only by running
+  // every node's searches (all rows), and only when asked for
+  const bool keep = state && opt.keep_update_state && opt.method == shape_method::distance_ratio && !row_list;
+  if (state) state->reset();
 
   // R: the voxels whose rows are recomputed
   update::voxel_bits rows(n);
@@ -419,7 +429,7 @@ void update_rows(const Policy& policy, const P& after, const D& before, const D&
   index_t inside = index_t(xs.size());
   for (index_t v = 0; v < n; ++v) inside += after.inside(v) ? 1 : 0;
   const rounding_margin<T> bound(std::min(inside, n));
-  stats.full = !bound.valid || !ren.monotone;
+  stats.full = !bound.valid || !ren.monotone || keep;
   if (stats.full) {
     for (index_t v = 0; v < n; ++v) rows.insert(v);
   } else {
@@ -449,9 +459,13 @@ void update_rows(const Policy& policy, const P& after, const D& before, const D&
     with_threads(policy, opt.threads, [&] {
       // with `whole`, null voxel lists mean the whole grid
       const index_t* list = whole ? nullptr : vox.data();
-      if (opt.method == shape_method::distance_ratio)
+      if (opt.method == shape_method::distance_ratio) {
+        std::shared_ptr<distance_ratio_state<T>> kept;
+        if (keep) kept = std::make_shared<distance_ratio_state<T>>();
         distance_ratio_rows(policy, after, d_after, opt, k, d_after.seeds.size(), list, redo.size(),
-                            new_node.data(), new_weight.data());
+                            new_node.data(), new_weight.data(), kept.get());
+        if (keep) *state = std::move(kept);
+      }
       else if (whole && (opt.method == shape_method::sibson || opt.method == shape_method::laplace))
         natural_neighbour_rows(policy, after, d_after, opt, opt.method == shape_method::laplace,
                                all_voxels(n).data(), redo.size(), k, d_after.seeds.size(), new_node.data(),
