@@ -326,17 +326,33 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
     s = o;
     merge_repaired(s.support, s.di, di, touched, old_value, moved);
     rows.insert(rows.end(), moved.begin(), moved.end());
-    // d_B: a frontier source can change only at a face with an end in X (the diagram, or the face's
-    // cut) or where d_i changed; the seeds are those voxels (a superset of the changed sources) and XE
-    seeds = xs;
-    seeds.insert(seeds.end(), moved.begin(), moved.end());
-    for (std::size_t j = 0, m = seeds.size(); j < m; ++j) {
-      const auto c = after.geometry.coords(seeds[j]);
+    // d_B: a frontier source at v reads the diagram and d_i at v and its face neighbours, and the faces'
+    // cuts; it exists only where v or a face neighbour is in cell i. The seeds: XE, and the voxels of X
+    // and where d_i changed, with their face neighbours, that are in or next to cell i before or after
+    // (a superset of the voxels whose source changed)
+    auto in_cell = [&](index_t v) { return before.label[v] == i || d_after.label[v] == i; };
+    auto near_cell = [&](index_t v, const coord<P::dim>& c) {
+      if (in_cell(v)) return true;
       for (const auto& f : faces) {
         const index_t y = c[std::size_t(f.axis)] + f.dir;
-        if (y >= 0 && y < after.geometry.extent(f.axis)) seeds.push_back(seeds[j] + f.delta);
+        if (y >= 0 && y < after.geometry.extent(f.axis) && in_cell(v + f.delta)) return true;
       }
-    }
+      return false;
+    };
+    seeds = xes;
+    auto consider = [&](index_t v) {
+      const auto c = after.geometry.coords(v);
+      if (near_cell(v, c)) seeds.push_back(v);
+      for (const auto& f : faces) {
+        const index_t y = c[std::size_t(f.axis)] + f.dir;
+        if (y >= 0 && y < after.geometry.extent(f.axis)) {
+          const index_t w = v + f.delta;
+          if (near_cell(w, after.geometry.coords(w))) seeds.push_back(w);
+        }
+      }
+    };
+    for (const index_t v : xs) consider(v);
+    for (const index_t v : moved) consider(v);
     dense_distances<T> db(dense_b, *o.frontier, *o.db);
     repair_distances(
         after, whole, walk, db, dmax, xf, seeds,
