@@ -106,8 +106,6 @@ void cut_shape(const job& j, const shape_args& sa, const problem_spec<T>& before
     bar.set_fraction(f);
     return true;
   };
-  // Distance Ratio keeps its nodes' searches with the weights before, so the update repairs them
-  opt.keep_update_state = sa.method == gv::shape_method::distance_ratio;
   bar.update(std::string(method) + " before", 0.0);
   const auto w_before = fns.shape(before_spec, before, opt);
   bar.update(std::string(method) + " full recompute", 0.0);

@@ -132,7 +132,6 @@ int run(const std::vector<std::string>& args) {
   opt.method = gv::shape_method::distance_ratio;
   opt.max_nodes_per_voxel = 4;
   opt.progress = [&](double x) { bar.set_fraction(x); return true; };
-  opt.keep_update_state = true;  // the cut step repairs the nodes' searches instead of running them again
   const gv::shape_options opt_dr = opt;
   const auto w_dr = solver.in_float.shape(p, d, opt);  // kept for the cut step, which updates it
   const double t_dr = bar.seconds() - t0;

@@ -7,6 +7,7 @@
 
 #include <geovoronoi/detail/shape/common.hpp>
 #include <geovoronoi/detail/shape/distance_ratio.hpp>
+#include <geovoronoi/detail/shape/host_parallel.hpp>
 #include <geovoronoi/detail/shape/translation_invariant.hpp>
 #include <geovoronoi/detail/stencil_walk.hpp>
 #include <geovoronoi/update.hpp>
@@ -16,6 +17,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <queue>
 #include <utility>
@@ -271,13 +273,7 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
   auto state = std::make_shared<distance_ratio_state<T>>();
   state->seeds = old.seeds;
   state->nodes.resize(old.nodes.size());
-  std::optional<offset_table<P>> tab;
-  std::vector<index_t> rows(xs);  // X, then every voxel where some node's d_i or d_B changed
-  std::vector<T> dense_i(std::size_t(n), inf), dense_b(dense_i);
   const auto whole = without_cuts(after);
-  std::vector<index_t> touched, seeds, moved;
-  std::vector<T> old_value;
-  std::size_t affected = 0;
   // d_max reads a cell and its face neighbours: it can change only for the cells, before or after,
   // of the voxels of X and their face neighbours (a face that was cut has both ends in X)
   std::vector<char> bound_may_change(std::size_t(nodes), 0);
@@ -293,10 +289,21 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
       if (y >= 0 && y < after.geometry.extent(f.axis)) mark(v + f.delta);
     }
   }
-  for (label_t i = 0; i < nodes; ++i) {
+  std::optional<offset_table<P>> tab;
+  if (std::count(bound_may_change.begin(), bound_may_change.end(), char(1)) > 0 && translation_invariant(after))
+    tab.emplace(policy, after);
+  // every node on its own (parallel host tasks where the backend has them): its new searches, and the
+  // voxels where its contribution can have changed
+  std::vector<std::vector<index_t>> node_rows(static_cast<std::size_t>(nodes));
+  // dense scratch for the repairs, +inf between uses: one pair per concurrent task, reused
+  using scratch = std::pair<std::vector<T>, std::vector<T>>;
+  std::mutex pool_mutex;
+  std::vector<std::unique_ptr<scratch>> pool;
+  host_parallel_for(policy, index_t(nodes), [&](index_t t) {
+    const label_t i = label_t(t);
     const auto& o = old.nodes[std::size_t(i)];
     auto& s = state->nodes[std::size_t(i)];
-    const std::size_t rows_before = rows.size();
+    auto& rows = node_rows[std::size_t(i)];
     const T dmax = bound_may_change[std::size_t(i)] ? node_bound(after, faces, d_after.distance.data(),
                                                                  d_after.label.data(), i, cell(ca, i), cell_size(ca, i))
                                                     : o.dmax;
@@ -304,21 +311,37 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
     if (!same_bits(dmax, o.dmax) || !(dmax > T(0))) {
       if (same_bits(dmax, o.dmax)) {  // still an isolated one-voxel cell: the same contribution
         s = o;
-        continue;
+        return;
       }
       // the bound changed: the node's searches run again; its rows change anywhere in either support
       rows.insert(rows.end(), o.support->begin(), o.support->end());
-      if (!(dmax > T(0))) {
+      if (!(dmax > T(0)))
         s = isolated_node(dmax, node_voxel);
-      } else {
-        if (!tab && translation_invariant(after)) tab.emplace(policy, after);
+      else
         s = node_searches(policy, after, faces, d_after.distance.data(), d_after.label.data(), i, node_voxel,
                           cell(ca, i), cell_size(ca, i), dmax, tab ? &*tab : nullptr);
-      }
       rows.insert(rows.end(), s.support->begin(), s.support->end());
-      ++affected;
-      continue;
+      return;
     }
+    std::unique_ptr<scratch> mine;
+    {
+      const std::lock_guard<std::mutex> hold(pool_mutex);
+      if (!pool.empty()) mine = std::move(pool.back()), pool.pop_back();
+    }
+    if (!mine) mine = std::make_unique<scratch>(std::vector<T>(std::size_t(n), inf), std::vector<T>(std::size_t(n), inf));
+    struct give_back {  // returns the scratch (reset by the repairs' views) when the task ends
+      std::unique_ptr<scratch>& mine;
+      std::vector<std::unique_ptr<scratch>>& pool;
+      std::mutex& m;
+      ~give_back() {
+        const std::lock_guard<std::mutex> hold(m);
+        pool.push_back(std::move(mine));
+      }
+    } returned{mine, pool, pool_mutex};
+    std::vector<T>& dense_i = mine->first;
+    std::vector<T>& dense_b = mine->second;
+    std::vector<index_t> touched, seeds, moved;
+    std::vector<T> old_value;
     // d_i: repaired from XE (its source, the node, is the same; it does not read the diagram)
     dense_distances<T> di(dense_i, *o.support, *o.di);
     repair_distances(after, whole, walk, di, T(2) * dmax, xf, xes,
@@ -362,7 +385,12 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
         touched, old_value);
     merge_repaired(s.frontier, s.db, db, touched, old_value, moved);
     rows.insert(rows.end(), moved.begin(), moved.end());
-    affected += rows.size() > rows_before;
+  });
+  std::vector<index_t> rows(xs);  // X, then every voxel where some node's d_i or d_B changed
+  std::size_t affected = 0;
+  for (const auto& r : node_rows) {
+    rows.insert(rows.end(), r.begin(), r.end());
+    affected += !r.empty();
   }
   // the rows to recompute, each from every node's new searches in node order
   std::sort(rows.begin(), rows.end());
@@ -375,11 +403,34 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
   std::vector<double> raw(ks);
   std::vector<candidate> cand;
   std::size_t changed = 0;
-  for (const index_t v : rows) {
+  // many rows: node by node over every list, as distance_ratio_rows does (a row's slots see the nodes'
+  // contributions in node order either way); few rows: each looks its voxel up in every node's lists
+  std::size_t entries = 0;
+  for (const auto& s : state->nodes) entries += s.support->size();
+  const bool by_node = rows.size() * 16 > entries;
+  std::vector<std::ptrdiff_t> slot_of;
+  std::vector<label_t> slot_node;
+  std::vector<double> slot_raw;
+  if (by_node) {
+    slot_of.assign(std::size_t(n), -1);
+    for (std::size_t j = 0; j < rows.size(); ++j) slot_of[std::size_t(rows[j])] = std::ptrdiff_t(j);
+    slot_node.assign(rows.size() * ks, no_label);
+    slot_raw.assign(rows.size() * ks, 0.0);
+    for (label_t i = 0; i < nodes; ++i)
+      node_raw_weights(state->nodes[std::size_t(i)], lab, i, [&](index_t x, double wx) {
+        const std::ptrdiff_t j = slot_of[std::size_t(x)];
+        if (j >= 0) insert_slot(slot_node.data() + std::size_t(j) * ks, slot_raw.data() + std::size_t(j) * ks, k, i, wx);
+      });
+  }
+  for (std::size_t j = 0; j < rows.size(); ++j) {
+    const index_t v = rows[j];
     std::fill(row_node.begin(), row_node.end(), no_label);
     std::fill(row_weight.begin(), row_weight.end(), T(0));
     std::fill(raw.begin(), raw.end(), 0.0);
-    if (lab[v] != no_label && dist[v] != T(0))
+    if (by_node) {
+      std::copy_n(slot_node.begin() + std::ptrdiff_t(j * ks), ks, row_node.begin());
+      std::copy_n(slot_raw.begin() + std::ptrdiff_t(j * ks), ks, raw.begin());
+    } else if (lab[v] != no_label && dist[v] != T(0)) {
       for (label_t i = 0; i < nodes; ++i) {
         const auto& s = state->nodes[std::size_t(i)];
         const T di = sorted_at(*s.support, *s.di, v);
@@ -388,6 +439,7 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
         const double wx = distance_ratio_weight(double(di), double(db < inf ? db : s.dmax), lab[v] == i);
         if (wx > 0) insert_slot(row_node.data(), raw.data(), k, i, wx);
       }
+    }
     finish_row(lab[v], dist[v], k, row_node.data(), row_weight.data(), raw.data(), cand);
     const std::size_t at = std::size_t(v) * ks;
     bool same = true;
