@@ -145,7 +145,9 @@ void repair_distances(const P& after, const W& whole, const stencil_walker<P::di
   }
   // Dijkstra from them, lowering any value (the engine's relaxation: mask, weight check, bound)
   while (!heap.empty()) {
-    const auto [dv, v] = heap.top();
+    // (no structured binding: C++17 cannot capture one in the lambda below)
+    const T dv = heap.top().first;
+    const index_t v = heap.top().second;
     heap.pop();
     if (dv != D(v)) continue;  // stale
     const T fv = field[v];
