@@ -126,6 +126,26 @@ T node_bound(const P& p, const std::vector<face<P::dim>>& faces, const T* dist, 
   return dmax;
 }
 
+/// The frontier source values of a face from x (in cell i) to y (in another cell j), from d_i(y)
+/// (@p diy) and the diagram's distances: y's, at its distance to the point where d_i = d_j on the
+/// path i -> x -> y -> j, and x's, at the distance from x to that point (never -0).
+template <class T>
+T frontier_value_at_y(T diy, T dist_y) noexcept {
+  return T(0.5) * (diy - dist_y);
+}
+template <class T>
+T frontier_value_at_x(T diy, T dist_y, T dist_x) noexcept {
+  const T mid = T(0.5) * (dist_y + diy);
+  return std::max(T(0), mid - dist_x);
+}
+
+/// Node i's raw weight at a voxel of its support, from d_i there (@p di), d_B there (@p db, +inf where
+/// the frontier search did not reach: d_max is used) and whether the voxel lies in cell i.
+template <class T>
+double node_weight(const dr_node<T>& s, T di, T db, bool in_cell) noexcept {
+  return distance_ratio_weight(double(di), double(db < std::numeric_limits<T>::infinity() ? db : s.dmax), in_cell);
+}
+
 /**
  * The sources of node i's frontier search: on both sides of every face between cell i and a cell j,
  * at their distance to the point where d_i = d_j along the path i -> x -> y -> j, below d_max; one per
@@ -145,9 +165,8 @@ std::vector<source<T>> frontier_sources(const P& p, const std::vector<face<P::di
       if (lab[y] == no_label || lab[y] == i) continue;
       const T diy = di_at(y);
       if (!(diy < std::numeric_limits<T>::infinity())) continue;
-      const T dby = T(0.5) * (diy - dist[y]);
-      const T mid = T(0.5) * (dist[y] + diy);
-      const T dbx = std::max(T(0), mid - dist[x]);
+      const T dby = frontier_value_at_y(diy, dist[y]);
+      const T dbx = frontier_value_at_x(diy, dist[y], dist[x]);
       if (dby < dmax) frontier.push_back({y, dby, 0});
       if (dbx < dmax) frontier.push_back({x, dbx, 0});
     }
@@ -199,8 +218,8 @@ void node_raw_weights(const dr_node<T>& s, const label_t* lab, label_t i, F&& f)
   for (std::size_t j = 0; j < support.size(); ++j) {
     const index_t x = support[j];
     while (b < frontier.size() && frontier[b] < x) ++b;
-    const T dbx = (b < frontier.size() && frontier[b] == x) ? db[b] : s.dmax;
-    const double wx = distance_ratio_weight(double(di[j]), double(dbx), lab[x] == i);
+    const T dbx = (b < frontier.size() && frontier[b] == x) ? db[b] : std::numeric_limits<T>::infinity();
+    const double wx = node_weight(s, di[j], dbx, lab[x] == i);
     if (wx > 0) f(x, wx);
   }
 }

@@ -232,13 +232,12 @@ T frontier_source_at(const P& p, const std::vector<face<P::dim>>& faces, const T
     if (lv == i && lw != i) {  // v is the x of the face, w its y
       const T diy = di_at(w);
       if (!(diy < std::numeric_limits<T>::infinity())) continue;
-      const T mid = T(0.5) * (dist[w] + diy);
-      const T dbx = std::max(T(0), mid - dist[v]);
+      const T dbx = frontier_value_at_x(diy, dist[w], dist[v]);
       if (dbx < dmax && dbx < best) best = dbx;
     } else if (lv != i && lw == i) {  // v is the y of a face from cell i
       const T diy = di_at(v);
       if (!(diy < std::numeric_limits<T>::infinity())) continue;
-      const T dby = T(0.5) * (diy - dist[v]);
+      const T dby = frontier_value_at_y(diy, dist[v]);
       if (dby < dmax && dby < best) best = dby;
     }
   }
@@ -292,7 +291,8 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
     }
   }
   std::optional<offset_table<P>> tab;
-  if (std::count(bound_may_change.begin(), bound_may_change.end(), char(1)) > 0 && translation_invariant(after))
+  if (std::find(bound_may_change.begin(), bound_may_change.end(), char(1)) != bound_may_change.end() &&
+      translation_invariant(after))
     tab.emplace(policy, after);
   // every node on its own (parallel host tasks where the backend has them): its new searches, and the
   // voxels where its contribution can have changed
@@ -438,7 +438,7 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
         const T di = sorted_at(*s.support, *s.di, v);
         if (!(di < inf)) continue;
         const T db = sorted_at(*s.frontier, *s.db, v);
-        const double wx = distance_ratio_weight(double(di), double(db < inf ? db : s.dmax), lab[v] == i);
+        const double wx = node_weight(s, di, db, lab[v] == i);
         if (wx > 0) insert_slot(row_node.data(), raw.data(), k, i, wx);
       }
     }
