@@ -50,6 +50,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <type_traits>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -291,6 +292,33 @@ void with_problem(const P& p, const cut_handle* cut, F&& f) {
   }
 }
 
+/// Distance Ratio's kept searches (shape_options::keep_update_state) for the Python layer's ShapeState:
+/// the library's immutable, shared distance_ratio_state<T>, its weight type and the grid it belongs to.
+struct shape_state_handle {
+  std::shared_ptr<const void> state;  ///< a const detail::shape::distance_ratio_state<T>
+  bool f32 = true;                    ///< T is float (else double)
+  std::size_t voxels = 0;             ///< voxels of the grid it was computed on
+  std::size_t nbytes = 0;             ///< bytes its lists hold
+
+  template <class T>
+  static shape_state_handle of(std::shared_ptr<const gv::detail::shape::distance_ratio_state<T>> s, std::size_t voxels) {
+    shape_state_handle h;
+    h.f32 = std::is_same_v<T, float>;
+    h.voxels = voxels;
+    for (const auto& nd : s->nodes)
+      h.nbytes += (nd.support->size() + nd.frontier->size()) * (sizeof(index_t) + sizeof(T));
+    h.state = std::move(s);
+    return h;
+  }
+  /// The state as the library's type, after checking that it is one of T on a grid of @p voxels voxels.
+  template <class T>
+  std::shared_ptr<const gv::detail::shape::distance_ratio_state<T>> as(std::size_t n) const {
+    if (f32 != std::is_same_v<T, float> || voxels != n || !state)
+      throw std::invalid_argument("geovoronoi: the shape-function state belongs to another grid or dtype");
+    return std::static_pointer_cast<const gv::detail::shape::distance_ratio_state<T>>(state);
+  }
+};
+
 struct problem_args {
   in_array field;
   std::vector<double> spacing, origin;
@@ -475,9 +503,11 @@ nb::object weights_to_python(std::vector<label_t>&& node, std::vector<T>&& weigh
                         vector_to_numpy(std::move(indptr), {n + 1}), nodes, fixed_idx, fixed_w);
 }
 
+/// (weights tuple, state): the state is a shape_state_handle when @p keep (Distance Ratio on the whole
+/// grid: shape_options::keep_update_state), else None.
 template <class T, int Dim, bool Cuts>
 nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::string& method, int k,
-                      std::size_t batch_size, nb::object progress, const std::optional<in_array>& points) {
+                      std::size_t batch_size, nb::object progress, const std::optional<in_array>& points, bool keep) {
   auto* dp = &checked_diagram<T, Dim>(a, h);
   std::vector<std::size_t> shape(a.field.ndim());
   for (std::size_t i = 0; i < shape.size(); ++i) shape[i] = a.field.shape(i);
@@ -485,7 +515,11 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
   const T* field = static_cast<const T*>(a.field.data());
   last_field_address = reinterpret_cast<std::uintptr_t>(field);
   progress_bridge bridge{progress, 0.0, std::nullopt};
-  const gv::shape_options opt = make_shape_options(a, method, k, batch_size, bridge);
+  gv::shape_options opt = make_shape_options(a, method, k, batch_size, bridge);
+  if (keep && (points || opt.method != gv::shape_method::distance_ratio))
+    throw std::invalid_argument("geovoronoi: keep_state applies to Distance Ratio on the whole grid only");
+  opt.keep_update_state = keep;
+  std::shared_ptr<const gv::detail::shape::distance_ratio_state<T>> kept;
   // Without points: every voxel (shape_functions); with points: only those voxels (shape_functions_at),
   // given as int64 array indices [z, y, x] already bounds-checked by the Python layer.
   std::optional<std::vector<gv::coord<Dim>>> at;
@@ -505,18 +539,24 @@ nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::strin
               node = std::move(w.node);
               weight = std::move(w.weight);
             };
-            if (at)
+            if (at) {
               take(gv::shape_functions_at(policy, p, *dp, *at, opt));
-            else
-              take(gv::shape_functions(policy, p, *dp, opt));
+            } else {
+              auto w = gv::shape_functions(policy, p, *dp, opt);
+              kept = std::move(w.update_state);
+              take(std::move(w));
+            }
           });
         });
       });
     });
   });
   const std::size_t n = at ? at->size() : std::size_t(g.size());
-  return weights_to_python(std::move(node), std::move(weight), n, kk, nodes,
-                           at ? std::vector<std::size_t>{n} : shape);
+  nb::object state = nb::none();
+  if (kept) state = nb::cast(shape_state_handle::of<T>(std::move(kept), std::size_t(g.size())));
+  return nb::make_tuple(weights_to_python(std::move(node), std::move(weight), n, kk, nodes,
+                                          at ? std::vector<std::size_t>{n} : shape),
+                        state);
 }
 
 /// voronoi() on a T field of 2 or 3 dimensions, with the edges of @p cut removed when it is not null
@@ -533,9 +573,9 @@ nb::object voronoi_typed(const problem_args& a, const in_array& seeds, bool worl
 /// shape_functions() on a T field of 2 or 3 dimensions (Cuts: with the diagram's cut edges).
 template <class T, bool Cuts>
 nb::object shape_typed(const problem_args& a, diagram_handle& h, const std::string& method, int k,
-                       std::size_t batch_size, nb::object progress, const std::optional<in_array>& points) {
-  if (a.field.ndim() == 2) return shape_impl<T, 2, Cuts>(a, h, method, k, batch_size, progress, points);
-  if (a.field.ndim() == 3) return shape_impl<T, 3, Cuts>(a, h, method, k, batch_size, progress, points);
+                       std::size_t batch_size, nb::object progress, const std::optional<in_array>& points, bool keep) {
+  if (a.field.ndim() == 2) return shape_impl<T, 2, Cuts>(a, h, method, k, batch_size, progress, points, keep);
+  if (a.field.ndim() == 3) return shape_impl<T, 3, Cuts>(a, h, method, k, batch_size, progress, points, keep);
   throw std::invalid_argument("geovoronoi: the field must be a 2D or 3D array, got " + std::to_string(a.field.ndim()) +
                               " dimensions");
 }
@@ -544,7 +584,7 @@ nb::object shape_typed(const problem_args& a, diagram_handle& h, const std::stri
   EXTERN template nb::object voronoi_typed<T, CUTS>(const problem_args&, const in_array&, bool, bool, nb::object, \
                                                     const cut_handle*);                                          \
   EXTERN template nb::object shape_typed<T, CUTS>(const problem_args&, diagram_handle&, const std::string&, int,  \
-                                                  std::size_t, nb::object, const std::optional<in_array>&);
+                                                  std::size_t, nb::object, const std::optional<in_array>&, bool);
 GEOVORONOI_PY_DECLARE(float, false, extern)
 GEOVORONOI_PY_DECLARE(double, false, extern)
 GEOVORONOI_PY_DECLARE(float, true, extern)

@@ -130,7 +130,8 @@ template <class T, int Dim>
 nb::object shape_update_impl(const problem_args& a, diagram_handle& before, diagram_handle& after,
                              const change_args& c, const std::string& method, int k, std::size_t batch_size,
                              nb::object progress, const in_array& old_node, const in_array& old_weight,
-                             std::size_t old_nodes, const std::optional<in_array>& points) {
+                             std::size_t old_nodes, const std::optional<in_array>& points,
+                             const shape_state_handle* state) {
   auto& db = checked_diagram<T, Dim>(a, before);
   auto& da = checked_diagram<T, Dim>(a, after);
   std::vector<std::size_t> shape(a.field.ndim());
@@ -145,7 +146,15 @@ nb::object shape_update_impl(const problem_args& a, diagram_handle& before, diag
     throw std::invalid_argument("geovoronoi: the weights have " + std::to_string(old_node.size()) + " slots, expected " +
                                 std::to_string(rows) + " rows x k = " + std::to_string(k));
   progress_bridge bridge{progress, 0.0, std::nullopt};
-  const gv::shape_options opt = make_shape_options(a, method, k, batch_size, bridge);
+  gv::shape_options opt = make_shape_options(a, method, k, batch_size, bridge);
+  // a state given: the update repairs its searches, and keeps them again when it recomputes every row
+  std::shared_ptr<const gv::detail::shape::distance_ratio_state<T>> kept;
+  if (state) {
+    if (points || opt.method != gv::shape_method::distance_ratio)
+      throw std::invalid_argument("geovoronoi: a shape-function state applies to Distance Ratio on the whole grid only");
+    kept = state->as<T>(std::size_t(g.size()));
+    opt.keep_update_state = true;
+  }
   const auto* np = static_cast<const label_t*>(old_node.data());
   const auto* wp = static_cast<const T*>(old_weight.data());
   std::vector<label_t> node(np, np + old_node.size());
@@ -181,10 +190,12 @@ nb::object shape_update_impl(const problem_args& a, diagram_handle& before, diag
               w.nodes = old_nodes;
               w.node = std::move(node);
               w.weight = std::move(weight);
+              w.update_state = std::move(kept);
               st = gv::update_shape_functions_in_place(policy, p, db, da, w, ch, opt);
               nodes = w.nodes;
               node = std::move(w.node);
               weight = std::move(w.weight);
+              kept = std::move(w.update_state);
             }
           });
         });
@@ -199,9 +210,14 @@ nb::object shape_update_impl(const problem_args& a, diagram_handle& before, diag
   stats["region_voxels"] = st.region_voxels;
   stats["nodes_affected"] = st.nodes_affected;
   stats["full"] = st.full;
+  nb::object new_state = nb::none();
+  if (state) {
+    if (!kept) throw std::logic_error("geovoronoi: the update returned no Distance Ratio state");
+    new_state = nb::cast(shape_state_handle::of<T>(std::move(kept), std::size_t(g.size())));
+  }
   return nb::make_tuple(weights_to_python(std::move(node), std::move(weight), rows, std::size_t(k), nodes,
                                           points ? std::vector<std::size_t>{rows} : shape),
-                        stats);
+                        stats, new_state);
 }
 
 template <class T>
@@ -215,13 +231,14 @@ template <class T>
 nb::object shape_update_typed(const problem_args& a, diagram_handle& before, diagram_handle& after,
                               const change_args& c, const std::string& method, int k, std::size_t batch_size,
                               nb::object progress, const in_array& old_node, const in_array& old_weight,
-                              std::size_t old_nodes, const std::optional<in_array>& points) {
+                              std::size_t old_nodes, const std::optional<in_array>& points,
+                              const shape_state_handle* state) {
   if (a.field.ndim() == 2)
     return shape_update_impl<T, 2>(a, before, after, c, method, k, batch_size, progress, old_node, old_weight,
-                                   old_nodes, points);
+                                   old_nodes, points, state);
   if (a.field.ndim() == 3)
     return shape_update_impl<T, 3>(a, before, after, c, method, k, batch_size, progress, old_node, old_weight,
-                                   old_nodes, points);
+                                   old_nodes, points, state);
   throw std::invalid_argument("geovoronoi: the field must be a 2D or 3D array");
 }
 
@@ -230,7 +247,7 @@ nb::object shape_update_typed(const problem_args& a, diagram_handle& before, dia
   EXTERN template nb::object shape_update_typed<T>(const problem_args&, diagram_handle&, diagram_handle&,    \
                                                    const change_args&, const std::string&, int, std::size_t, \
                                                    nb::object, const in_array&, const in_array&, std::size_t, \
-                                                   const std::optional<in_array>&);
+                                                   const std::optional<in_array>&, const shape_state_handle*);
 GEOVORONOI_PY_DECLARE_UPDATE(float, extern)
 GEOVORONOI_PY_DECLARE_UPDATE(double, extern)
 

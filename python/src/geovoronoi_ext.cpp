@@ -68,14 +68,14 @@ nb::object shape_update_entry(in_array field, std::vector<double> spacing, std::
                               std::optional<in_array> added, std::optional<in_array> restiffened,
                               std::vector<node_edit_args> nodes, std::string method, int k, std::size_t batch_size,
                               nb::object progress, in_array old_node, in_array old_weight, std::size_t old_nodes,
-                              std::optional<in_array> points) {
+                              std::optional<in_array> points, const shape_state_handle* state) {
   problem_args a{field, std::move(spacing), std::move(origin), std::move(metric), connectivity, std::move(backend), threads};
   const change_args c = make_change_args(std::move(cut), std::move(all), std::move(carved), std::move(added),
                                          std::move(restiffened), std::move(nodes));
   return is_f32(field) ? shape_update_typed<float>(a, before, after, c, method, k, batch_size, progress, old_node,
-                                                   old_weight, old_nodes, points)
+                                                   old_weight, old_nodes, points, state)
                        : shape_update_typed<double>(a, before, after, c, method, k, batch_size, progress, old_node,
-                                                    old_weight, old_nodes, points);
+                                                    old_weight, old_nodes, points, state);
 }
 
 // ---- cuts -------------------------------------------------------------------------------------------
@@ -227,14 +227,14 @@ nb::object read_mesh_entry(const std::string& path) {
 
 nb::object shape_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
                        int connectivity, std::string backend, int threads, diagram_handle& h, std::string method, int k,
-                       std::size_t batch_size, nb::object progress, std::optional<in_array> points) {
+                       std::size_t batch_size, nb::object progress, std::optional<in_array> points, bool keep) {
   problem_args a{field, std::move(spacing), std::move(origin), std::move(metric), connectivity, std::move(backend), threads};
   const bool f32 = is_f32(field);
   if (!h.cuts.empty())
-    return f32 ? shape_typed<float, true>(a, h, method, k, batch_size, progress, points)
-               : shape_typed<double, true>(a, h, method, k, batch_size, progress, points);
-  return f32 ? shape_typed<float, false>(a, h, method, k, batch_size, progress, points)
-             : shape_typed<double, false>(a, h, method, k, batch_size, progress, points);
+    return f32 ? shape_typed<float, true>(a, h, method, k, batch_size, progress, points, keep)
+               : shape_typed<double, true>(a, h, method, k, batch_size, progress, points, keep);
+  return f32 ? shape_typed<float, false>(a, h, method, k, batch_size, progress, points, keep)
+             : shape_typed<double, false>(a, h, method, k, batch_size, progress, points, keep);
 }
 
 // ---- images ---------------------------------------------------------------------------------------
@@ -385,6 +385,9 @@ NB_MODULE(_geovoronoi, m) {
       .def("_edges", &cut_edges)
       .def("_equal", &cut_equal)
       .def_ro("_connectivity", &cut_handle::connectivity);
+  nb::class_<shape_state_handle>(m, "_ShapeStateHandle",
+                                 "Distance Ratio's kept searches (private; use geovoronoi.ShapeState).")
+      .def_ro("nbytes", &shape_state_handle::nbytes);
 
   m.def("_voronoi", &voronoi_entry, nb::arg("field").noconvert(), nb::arg("spacing"), nb::arg("origin"),
         nb::arg("metric"), nb::arg("connectivity"), nb::arg("backend"), nb::arg("threads"),
@@ -400,7 +403,7 @@ NB_MODULE(_geovoronoi, m) {
         nb::arg("before"), nb::arg("after"), nb::arg("cut").none(), nb::arg("all").none(), nb::arg("carved").none(),
         nb::arg("added").none(), nb::arg("restiffened").none(), nb::arg("nodes"), nb::arg("method"), nb::arg("k"),
         nb::arg("batch_size"), nb::arg("progress").none(), nb::arg("old_node").noconvert(),
-        nb::arg("old_weight").noconvert(), nb::arg("old_nodes"), nb::arg("points").none(),
+        nb::arg("old_weight").noconvert(), nb::arg("old_nodes"), nb::arg("points").none(), nb::arg("state").none(),
         "Private: update_shape_functions() after the Python layer normalised its arguments.");
   m.def("_cut_from_mesh", &cut_from_mesh_entry, nb::arg("vertices").noconvert(), nb::arg("triangles").noconvert(),
         nb::arg("shape"), nb::arg("spacing"), nb::arg("origin"), nb::arg("orientation"), nb::arg("connectivity"));
@@ -410,7 +413,8 @@ NB_MODULE(_geovoronoi, m) {
   m.def("_shape_functions", &shape_entry, nb::arg("field").noconvert(), nb::arg("spacing"), nb::arg("origin"),
         nb::arg("metric"), nb::arg("connectivity"), nb::arg("backend"), nb::arg("threads"), nb::arg("diagram"),
         nb::arg("method"), nb::arg("k"), nb::arg("batch_size"), nb::arg("progress").none(),
-        nb::arg("points").none(), "Private: shape_functions() after the Python layer normalised its arguments.");
+        nb::arg("points").none(), nb::arg("keep"),
+        "Private: shape_functions() after the Python layer normalised its arguments.");
   m.def("_read_image", &read_image, nb::arg("path"));
   m.def("_write_image", &write_image, nb::arg("path"), nb::arg("array").noconvert(), nb::arg("channels"),
         nb::arg("spacing"), nb::arg("origin"), nb::arg("orientation"), nb::arg("planar"), nb::arg("compress"));

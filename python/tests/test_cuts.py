@@ -265,6 +265,58 @@ def test_update_shape_functions_equals_shape_functions(method, shape, conn):
     same_csr(w3, gv.shape_functions(g, u2, method=method, k=3))
 
 
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_distance_ratio_with_its_state_kept(dtype, backend):
+    """keep_state / state=: the same weights as a full computation, through a sequence of a cut, a
+    field edit and a node edit (which recomputes every row and keeps the searches anew), and the
+    state is checked against the diagram it belongs to."""
+    shape = (6, 9, 12)
+    f = field(shape, dtype)
+    s = np.minimum(SEEDS[3], np.array(shape) - 1)
+    d = gv.voronoi(f, s, parent=True, backend=backend)
+    plain = gv.shape_functions(f, d, method="distance_ratio", k=3, backend=backend)
+    w, st = gv.shape_functions(f, d, method="distance_ratio", k=3, keep_state=True, backend=backend)
+    assert isinstance(st, gv.ShapeState) and st.nbytes > 0 and "MB" in repr(st)
+    same_csr(w, plain)
+    # a cut: the kept searches are repaired, fewer rows than all recomputed
+    u = gv.update(d, f, cut=blade(shape, 26, 5.5))
+    w2, st2, info = gv.update_shape_functions(w, d, u, f, method="distance_ratio", k=3, state=st, stats=True,
+                                              backend=backend)
+    same_csr(w2, gv.shape_functions(f, u, method="distance_ratio", k=3))
+    assert isinstance(st2, gv.ShapeState) and st2 is not st
+    assert not info["full"] and info["recomputed"] < info["rows"]
+    # the same update without the state gives the same weights
+    same_csr(gv.update_shape_functions(w, d, u, f, method="distance_ratio", k=3, backend=backend), w2)
+    # a field edit on top, then a node edit (every row recomputed, the searches kept anew)
+    g = f.copy()
+    g[3, 4, 6] *= 3
+    u2 = gv.update(u, g, restiffened=[(3, 4, 6)])
+    w3, st3 = gv.update_shape_functions(w2, u, u2, g, method="distance_ratio", k=3, state=st2, backend=backend)
+    same_csr(w3, gv.shape_functions(g, u2, method="distance_ratio", k=3))
+    u3 = gv.update(u2, g, nodes=[("add", (1, 1, 1))])
+    w4, st4, info4 = gv.update_shape_functions(w3, u2, u3, g, method="distance_ratio", k=3, state=st3, stats=True,
+                                               backend=backend)
+    same_csr(w4, gv.shape_functions(g, u3, method="distance_ratio", k=3))
+    assert info4["full"] and info4["recomputed"] == info4["rows"]
+    u4 = gv.update(u3, g, cut=blade(shape, 26, 8.5))
+    w5 = gv.update_shape_functions(w4, u3, u4, g, method="distance_ratio", k=3, state=st4, backend=backend)[0]
+    same_csr(w5, gv.shape_functions(g, u4, method="distance_ratio", k=3))
+    # a state belongs to its diagram, to Distance Ratio and to the whole grid
+    with pytest.raises(ValueError, match="another diagram"):
+        gv.update_shape_functions(w2, u, u2, g, method="distance_ratio", k=3, state=st)
+    with pytest.raises(ValueError, match="distance_ratio"):
+        gv.update_shape_functions(w, d, u, f, method="sibson", k=3, state=st)
+    with pytest.raises(TypeError, match="ShapeState"):
+        gv.update_shape_functions(w, d, u, f, method="distance_ratio", k=3, state=object())
+    with pytest.raises(ValueError, match="keep_state"):
+        gv.shape_functions(f, d, method="sibson", k=3, keep_state=True)
+    with pytest.raises(ValueError, match="keep_state"):
+        gv.shape_functions(f, s, method="distance_ratio", k=3, keep_state=True)
+    with pytest.raises(ValueError, match="keep_state"):
+        gv.shape_functions(f, d, method="distance_ratio", k=3, points=[[1, 1, 1]], keep_state=True)
+
+
 @pytest.mark.parametrize("method", ["distance_ratio", "sibson"])
 def test_update_shape_functions_at_points(method):
     shape = (5, 6, 8)
