@@ -245,9 +245,10 @@ T frontier_source_at(const P& p, const std::vector<face<P::dim>>& faces, const T
 }
 
 /**
- * Distance Ratio rows after a change, from the kept searches @p old of the problem before (node list
- * unchanged). Every node's d_max is computed on the diagram after; a node whose d_max changed runs its
- * searches again, any other repairs them: d_i from the voxels of X (its source, the node, is the same),
+ * Distance Ratio rows after a change, from the kept searches @p old of the problem before (every old
+ * node on its voxel with its label; nodes appended after them run their searches from scratch and
+ * their rows are recomputed anywhere in their supports). Every node's d_max is computed on the
+ * diagram after; a node whose d_max changed runs its searches again, any other repairs them: d_i from the voxels of X (its source, the node, is the same),
  * then d_B from X and the voxels whose frontier source changed (the frontier sources, built before and
  * after from the cells, the diagram's distances and d_i). A row can change only at X or where some
  * node's d_i or d_B changed (a node run again: anywhere in its old or new support): those rows are
@@ -263,7 +264,8 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
   using T = typename P::value_type;
   const T inf = std::numeric_limits<T>::infinity();
   const index_t n = after.geometry.size();
-  const label_t nodes = label_t(old.nodes.size());
+  const label_t nodes = label_t(d_after.seeds.size());
+  const label_t old_count = label_t(old.nodes.size());
   const auto faces = faces_of(after);
   const stencil_walker<P::dim> walk(after);
   const cell_lists ca = cells_of(d_after.label.data(), n, nodes);
@@ -272,12 +274,13 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
     return c.start[std::size_t(i) + 1] - c.start[std::size_t(i)];
   };
   auto state = std::make_shared<distance_ratio_state<T>>();
-  state->seeds = old.seeds;
-  state->nodes.resize(old.nodes.size());
+  state->seeds = d_after.seeds;
+  state->nodes.resize(std::size_t(nodes));
   const auto whole = without_cuts(after);
   // d_max reads a cell and its face neighbours: it can change only for the cells, before or after,
   // of the voxels of X and their face neighbours (a face that was cut has both ends in X)
   std::vector<char> bound_may_change(std::size_t(nodes), 0);
+  for (label_t i = old_count; i < nodes; ++i) bound_may_change[std::size_t(i)] = 1;  // appended nodes
   for (const index_t v : xs) {
     auto mark = [&](index_t y) {
       if (before.label[y] != no_label) bound_may_change[std::size_t(before.label[y])] = 1;
@@ -303,9 +306,19 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
   std::vector<std::unique_ptr<scratch>> pool;
   host_parallel_for(policy, index_t(nodes), [&](index_t t) {
     const label_t i = label_t(t);
-    const auto& o = old.nodes[std::size_t(i)];
     auto& s = state->nodes[std::size_t(i)];
     auto& rows = node_rows[std::size_t(i)];
+    if (i >= old_count) {  // an appended node: its searches from scratch; its rows anywhere in its support
+      const index_t node_voxel = d_after.seeds[std::size_t(i)];
+      const T dmax = node_bound(after, faces, d_after.distance.data(), d_after.label.data(), i, cell(ca, i),
+                                cell_size(ca, i));
+      s = dmax > T(0) ? node_searches(policy, after, faces, d_after.distance.data(), d_after.label.data(), i, node_voxel,
+                                      cell(ca, i), cell_size(ca, i), dmax, tab ? &*tab : nullptr)
+                      : isolated_node(dmax, node_voxel);
+      rows.assign(s.support->begin(), s.support->end());
+      return;
+    }
+    const auto& o = old.nodes[std::size_t(i)];
     const T dmax = bound_may_change[std::size_t(i)] ? node_bound(after, faces, d_after.distance.data(),
                                                                  d_after.label.data(), i, cell(ca, i), cell_size(ca, i))
                                                     : o.dmax;
