@@ -35,7 +35,7 @@ struct shape_update_totals {
   std::array<std::size_t, 3> partial_per_method{};  // of which recomputed fewer rows than all
   std::size_t kept = 0;          // Distance Ratio updates of weights that keep the nodes' searches
   std::size_t kept_partial = 0;  // of which recomputed fewer rows than all (the searches repaired)
-  std::size_t kept_new_nodes = 0;  // of which repaired after node edits (nodes appended)
+  std::size_t kept_node_edits = 0;  // of which repaired after node edits (nodes appended or moved)
 };
 inline shape_update_totals& shape_totals() {
   static shape_update_totals t;
@@ -216,7 +216,7 @@ struct shape_tracker {
         CHECK(sl.w.update_state != nullptr);
         ++t.kept;
         t.kept_partial += s.recomputed < s.rows;
-        t.kept_new_nodes += !s.full && c && !c->nodes.empty();
+        t.kept_node_edits += !s.full && c && !c->nodes.empty();
       } else {
         CHECK(sl.w.update_state == nullptr);
       }

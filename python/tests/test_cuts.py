@@ -269,8 +269,8 @@ def test_update_shape_functions_equals_shape_functions(method, shape, conn):
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_distance_ratio_with_its_state_kept(dtype, backend):
     """keep_state / state=: the same weights as a full computation, through a sequence of a cut, a
-    field edit, an appended node (repaired), a moved node (every row recomputed, the searches kept
-    anew) and a cut, and the state is checked against the diagram it belongs to."""
+    field edit, an appended and a moved node (repaired), a removed node (every row recomputed, the
+    searches kept anew) and a cut, and the state is checked against the diagram it belongs to."""
     shape = (6, 9, 12)
     f = field(shape, dtype)
     s = np.minimum(SEEDS[3], np.array(shape) - 1)
@@ -303,10 +303,15 @@ def test_distance_ratio_with_its_state_kept(dtype, backend):
     w5, st5, info5 = gv.update_shape_functions(w4, u3, u4, g, method="distance_ratio", k=3, state=st4, stats=True,
                                                backend=backend)
     same_csr(w5, gv.shape_functions(g, u4, method="distance_ratio", k=3))
-    assert info5["full"] and info5["recomputed"] == info5["rows"]
-    u5 = gv.update(u4, g, cut=blade(shape, 26, 8.5))
-    w6 = gv.update_shape_functions(w5, u4, u5, g, method="distance_ratio", k=3, state=st5, backend=backend)[0]
+    assert not info5["full"]
+    u5 = gv.update(u4, g, nodes=[("remove", 1)])
+    w6, st6, info6 = gv.update_shape_functions(w5, u4, u5, g, method="distance_ratio", k=3, state=st5, stats=True,
+                                               backend=backend)
     same_csr(w6, gv.shape_functions(g, u5, method="distance_ratio", k=3))
+    assert info6["full"] and info6["recomputed"] == info6["rows"]
+    u6 = gv.update(u5, g, cut=blade(shape, 26, 8.5))
+    w7 = gv.update_shape_functions(w6, u5, u6, g, method="distance_ratio", k=3, state=st6, backend=backend)[0]
+    same_csr(w7, gv.shape_functions(g, u6, method="distance_ratio", k=3))
     # a state belongs to its diagram, to Distance Ratio and to the whole grid
     with pytest.raises(ValueError, match="another diagram"):
         gv.update_shape_functions(w2, u, u2, g, method="distance_ratio", k=3, state=st)

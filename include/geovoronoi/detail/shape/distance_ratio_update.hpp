@@ -246,9 +246,9 @@ T frontier_source_at(const P& p, const std::vector<face<P::dim>>& faces, const T
 
 /**
  * Distance Ratio rows after a change, from the kept searches @p old of the problem before (every old
- * node on its voxel with its label; nodes appended after them run their searches from scratch and
- * their rows are recomputed anywhere in their supports). Every node's d_max is computed on the
- * diagram after; a node whose d_max changed runs its searches again, any other repairs them: d_i from the voxels of X (its source, the node, is the same),
+ * node keeps its label; a node appended after them or moved to another voxel runs its searches from
+ * scratch, and its rows are recomputed anywhere in its supports, old and new). Every node's d_max is
+ * computed on the diagram after; a node whose d_max changed runs its searches again, any other repairs them: d_i from the voxels of X (its source, the node, is the same),
  * then d_B from X and the voxels whose frontier source changed (the frontier sources, built before and
  * after from the cells, the diagram's distances and d_i). A row can change only at X or where some
  * node's d_i or d_B changed (a node run again: anywhere in its old or new support): those rows are
@@ -280,7 +280,11 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
   // d_max reads a cell and its face neighbours: it can change only for the cells, before or after,
   // of the voxels of X and their face neighbours (a face that was cut has both ends in X)
   std::vector<char> bound_may_change(std::size_t(nodes), 0);
-  for (label_t i = old_count; i < nodes; ++i) bound_may_change[std::size_t(i)] = 1;  // appended nodes
+  // appended and moved nodes: their searches from scratch
+  std::vector<char> fresh(std::size_t(nodes), 1);
+  for (label_t i = 0; i < old_count; ++i) fresh[std::size_t(i)] = d_after.seeds[std::size_t(i)] != old.seeds[std::size_t(i)];
+  for (label_t i = 0; i < nodes; ++i)
+    if (fresh[std::size_t(i)]) bound_may_change[std::size_t(i)] = 1;
   for (const index_t v : xs) {
     auto mark = [&](index_t y) {
       if (before.label[y] != no_label) bound_may_change[std::size_t(before.label[y])] = 1;
@@ -308,14 +312,15 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
     const label_t i = label_t(t);
     auto& s = state->nodes[std::size_t(i)];
     auto& rows = node_rows[std::size_t(i)];
-    if (i >= old_count) {  // an appended node: its searches from scratch; its rows anywhere in its support
+    if (fresh[std::size_t(i)]) {  // appended or moved: its searches from scratch; its rows in both supports
+      if (i < old_count) rows.assign(old.nodes[std::size_t(i)].support->begin(), old.nodes[std::size_t(i)].support->end());
       const index_t node_voxel = d_after.seeds[std::size_t(i)];
       const T dmax = node_bound(after, faces, d_after.distance.data(), d_after.label.data(), i, cell(ca, i),
                                 cell_size(ca, i));
       s = dmax > T(0) ? node_searches(policy, after, faces, d_after.distance.data(), d_after.label.data(), i, node_voxel,
                                       cell(ca, i), cell_size(ca, i), dmax, tab ? &*tab : nullptr)
                       : isolated_node(dmax, node_voxel);
-      rows.assign(s.support->begin(), s.support->end());
+      rows.insert(rows.end(), s.support->begin(), s.support->end());
       return;
     }
     const auto& o = old.nodes[std::size_t(i)];

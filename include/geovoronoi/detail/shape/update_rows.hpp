@@ -411,14 +411,13 @@ void update_rows(const Policy& policy, const P& after, const D& before, const D&
   stats.changed_voxels = xs.size();
 
   // Distance Ratio with the nodes' searches kept in the weights: repair them when every node keeps its
-  // voxel and its label (nodes may be appended: their searches run from scratch)
-  bool appended_only = d_after.seeds.size() >= before.seeds.size();
-  for (std::size_t i = 0; i < before.seeds.size() && appended_only; ++i)
-    appended_only = ren.to_new[i] == label_t(i) && d_after.seeds[i] == before.seeds[i];
-  if (state && *state && opt.method == shape_method::distance_ratio && !row_list && appended_only &&
+  // label (nodes may be moved or appended: their searches run from scratch)
+  bool labels_kept = d_after.seeds.size() >= before.seeds.size();
+  for (std::size_t i = 0; i < before.seeds.size() && labels_kept; ++i) labels_kept = ren.to_new[i] == label_t(i);
+  if (state && *state && opt.method == shape_method::distance_ratio && !row_list && labels_kept &&
       (*state)->seeds == before.seeds && (*state)->nodes.size() == nodes) {
     *state = distance_ratio_update(policy, after, before, d_after, xs, xf, xes, **state, k, node, weight, stats);
-    nodes = d_after.seeds.size();  // appended nodes: their labels follow the old ones, no row renumbered
+    nodes = d_after.seeds.size();  // every old label kept (appended ones follow): no row renumbered
     report(opt.progress, 1.0);
     return;
   }
