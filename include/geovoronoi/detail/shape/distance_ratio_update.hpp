@@ -248,11 +248,12 @@ T frontier_source_at(const P& p, const std::vector<face<P::dim>>& faces, const T
  * Distance Ratio rows after a change, from the kept searches @p old of the problem before (every old
  * node keeps its label; a node appended after them or moved to another voxel runs its searches from
  * scratch, and its rows are recomputed anywhere in its supports, old and new). Every node's d_max is
- * computed on the diagram after; a node whose d_max changed runs its searches again, any other repairs them: d_i from the voxels of X (its source, the node, is the same),
- * then d_B from X and the voxels whose frontier source changed (the frontier sources, built before and
- * after from the cells, the diagram's distances and d_i). A row can change only at X or where some
- * node's d_i or d_B changed (a node run again: anywhere in its old or new support): those rows are
- * recomputed from the new searches, node by node in node order, as distance_ratio_rows does.
+ * computed on the diagram after; a node whose d_max changed runs its searches again, any other
+ * repairs them: d_i from the voxels of X (its source, the node, is the same), then d_B from X and the
+ * voxels whose frontier source changed (the frontier sources, built before and after from the cells,
+ * the diagram's distances and d_i). A row can change only at X or where some node's d_i or d_B
+ * changed (a node run again: anywhere in its old or new support): those rows are recomputed from the
+ * new searches, node by node in node order, as distance_ratio_rows does.
  * Returns the new searches; @p node / @p weight are the whole grid's rows, updated in place.
  */
 template <class Policy, class P, class D, class Stats>
@@ -282,7 +283,8 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
   std::vector<char> bound_may_change(std::size_t(nodes), 0);
   // appended and moved nodes: their searches from scratch
   std::vector<char> fresh(std::size_t(nodes), 1);
-  for (label_t i = 0; i < old_count; ++i) fresh[std::size_t(i)] = d_after.seeds[std::size_t(i)] != old.seeds[std::size_t(i)];
+  for (label_t i = 0; i < old_count; ++i)
+    fresh[std::size_t(i)] = d_after.seeds[std::size_t(i)] != old.seeds[std::size_t(i)];
   for (label_t i = 0; i < nodes; ++i)
     if (fresh[std::size_t(i)]) bound_may_change[std::size_t(i)] = 1;
   for (const index_t v : xs) {
@@ -313,7 +315,10 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
     auto& s = state->nodes[std::size_t(i)];
     auto& rows = node_rows[std::size_t(i)];
     if (fresh[std::size_t(i)]) {  // appended or moved: its searches from scratch; its rows in both supports
-      if (i < old_count) rows.assign(old.nodes[std::size_t(i)].support->begin(), old.nodes[std::size_t(i)].support->end());
+      if (i < old_count) {
+        const auto& was = *old.nodes[std::size_t(i)].support;
+        rows.assign(was.begin(), was.end());
+      }
       const index_t node_voxel = d_after.seeds[std::size_t(i)];
       const T dmax = node_bound(after, faces, d_after.distance.data(), d_after.label.data(), i, cell(ca, i),
                                 cell_size(ca, i));
