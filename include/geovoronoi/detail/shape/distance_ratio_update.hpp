@@ -314,40 +314,27 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
     const label_t i = label_t(t);
     auto& s = state->nodes[std::size_t(i)];
     auto& rows = node_rows[std::size_t(i)];
-    if (fresh[std::size_t(i)]) {  // appended or moved: its searches from scratch; its rows in both supports
-      if (i < old_count) {
-        const auto& was = *old.nodes[std::size_t(i)].support;
-        rows.assign(was.begin(), was.end());
-      }
-      const index_t node_voxel = d_after.seeds[std::size_t(i)];
-      const T dmax = node_bound(after, faces, d_after.distance.data(), d_after.label.data(), i, cell(ca, i),
-                                cell_size(ca, i));
+    // an appended node has no searches before; a moved one (fresh) runs them again like a new one
+    const dr_node<T>* prev = i < old_count ? &old.nodes[std::size_t(i)] : nullptr;
+    const bool is_fresh = fresh[std::size_t(i)] != 0;  // fresh nodes have bound_may_change set
+    const T dmax = bound_may_change[std::size_t(i)] ? node_bound(after, faces, d_after.distance.data(),
+                                                                 d_after.label.data(), i, cell(ca, i), cell_size(ca, i))
+                                                    : prev->dmax;
+    const index_t node_voxel = d_after.seeds[std::size_t(i)];
+    if (!is_fresh && same_bits(dmax, prev->dmax) && !(dmax > T(0))) {  // still an isolated one-voxel cell
+      s = *prev;
+      return;
+    }
+    if (is_fresh || !same_bits(dmax, prev->dmax)) {
+      // a fresh node, or the bound changed: the searches run again; its rows change anywhere in either support
+      if (prev) rows.assign(prev->support->begin(), prev->support->end());
       s = dmax > T(0) ? node_searches(policy, after, faces, d_after.distance.data(), d_after.label.data(), i, node_voxel,
                                       cell(ca, i), cell_size(ca, i), dmax, tab ? &*tab : nullptr)
                       : isolated_node(dmax, node_voxel);
       rows.insert(rows.end(), s.support->begin(), s.support->end());
       return;
     }
-    const auto& o = old.nodes[std::size_t(i)];
-    const T dmax = bound_may_change[std::size_t(i)] ? node_bound(after, faces, d_after.distance.data(),
-                                                                 d_after.label.data(), i, cell(ca, i), cell_size(ca, i))
-                                                    : o.dmax;
-    const index_t node_voxel = d_after.seeds[std::size_t(i)];
-    if (!same_bits(dmax, o.dmax) || !(dmax > T(0))) {
-      if (same_bits(dmax, o.dmax)) {  // still an isolated one-voxel cell: the same contribution
-        s = o;
-        return;
-      }
-      // the bound changed: the node's searches run again; its rows change anywhere in either support
-      rows.insert(rows.end(), o.support->begin(), o.support->end());
-      if (!(dmax > T(0)))
-        s = isolated_node(dmax, node_voxel);
-      else
-        s = node_searches(policy, after, faces, d_after.distance.data(), d_after.label.data(), i, node_voxel,
-                          cell(ca, i), cell_size(ca, i), dmax, tab ? &*tab : nullptr);
-      rows.insert(rows.end(), s.support->begin(), s.support->end());
-      return;
-    }
+    const auto& o = *prev;
     std::unique_ptr<scratch> mine;
     {
       const std::lock_guard<std::mutex> hold(pool_mutex);
