@@ -108,7 +108,8 @@ class fused_lanes_padded {
       : p_(p), g_(g), pw_(pw), key_(g.size()), field_(g.size(), T(0)), pend_(g.size(), untouched) {
     for (int k = 0; k < KV; ++k) delta_[k] = k < K ? g.delta()[k] : 0, len_[k] = k < K ? g.length()[k] : T(0);
 #ifdef GEOVORONOI_LANES_AVX512
-    wide_ = lanes_avx512_enabled() && __builtin_cpu_supports("avx512f");
+    // (the vector volume counts hold a lane's count in 32 bits: below 2^31 voxels)
+    wide_ = lanes_avx512_enabled() && __builtin_cpu_supports("avx512f") && g.size() < (std::size_t(1) << 31);
     // a lane's facet count is at most 2 Dim times its cell's size: 32-bit lanes hold it below 2^31 / 6 voxels
     wide_facets_ = p.geometry.size() < (index_t(1) << 28);
 #endif
@@ -140,7 +141,9 @@ class fused_lanes_padded {
     heap_.clear();
     std::size_t live = 0;
     for (int j = 0; j < n; ++j) seed(j, q[j], *acc[j], visited[j], live);
+    if (count_.size() < acc[0]->volume.size()) count_.resize(acc[0]->volume.size()), count_seen_.resize(count_.size(), 0);
     search(acc, visited, live);
+    flush_counts(n, acc, visited);
     if (laplace) {
       sort_touched();  // the facet pass and the reset then sweep memory in address order
 #ifdef GEOVORONOI_LANES_AVX512
@@ -275,7 +278,7 @@ class fused_lanes_padded {
 
   void search(accumulators* const* acc, std::size_t* visited, std::size_t& live) {
 #ifdef GEOVORONOI_LANES_AVX512
-    if (wide_) return search_avx512(acc, visited, live);
+    if (wide_) return search_avx512(live);
 #endif
     const auto* in = g_.data();
     block* key = key_.data();
@@ -339,11 +342,12 @@ class fused_lanes_padded {
   }
   /// The same search with a voxel's 16 keys in one AVX-512 register: the same per-lane IEEE operations
   /// and tests, masks instead of blends.
-  __attribute__((target("avx512f"))) void search_avx512(accumulators* const* acc, std::size_t* visited,
-                                                        std::size_t& live) {
+  __attribute__((target("avx512f"))) void search_avx512(std::size_t& live) {
     const auto* in = g_.data();
     block* key = key_.data();
     const __m512 inf = _mm512_set1_ps(std::numeric_limits<T>::infinity());
+    const __m512i one = _mm512_set1_epi32(1);
+    __m512i size = _mm512_load_si512(cell_size_.c);
     std::uint32_t v;
     T w[KV];
     while (next(v, w, live)) {
@@ -358,11 +362,21 @@ class fused_lanes_padded {
         const __m512 c = _mm512_add_ps(kv, _mm512_set1_ps(w[k]));
         const __mmask16 lt = __mmask16(_mm512_cmp_ps_mask(kv, old, _CMP_LT_OQ) & _mm512_cmp_ps_mask(c, old, _CMP_LT_OQ));
         if (!lt) continue;
-        const unsigned fresh = unsigned(lt) & ~unsigned(_mm512_cmp_ps_mask(old, _mm512_set1_ps(in[u].bound), _CMP_LT_OQ));
+        const __mmask16 fresh = lt & ~_mm512_cmp_ps_mask(old, _mm512_set1_ps(in[u].bound), _CMP_LT_OQ);
         _mm512_mask_store_ps(ku, lt, c);
-        improved(acc, visited, u, fresh, least(_mm512_mask_mov_ps(inf, lt, c)), live);
+        if (fresh) {  // lanes entering u's cell now: its owner's volume and the cell sizes, one add each
+          size = _mm512_mask_add_epi32(size, fresh, size, one);
+          const label_t owner = in[u].label;
+          if (owner >= 0) {
+            std::int32_t* co = count_[std::size_t(owner)].c;
+            _mm512_store_si512(co, _mm512_mask_add_epi32(_mm512_load_si512(co), fresh, _mm512_load_si512(co), one));
+            if (!count_seen_[std::size_t(owner)]) count_seen_[std::size_t(owner)] = 1, count_owners_.push_back(owner);
+          }
+        }
+        queue(u, least(_mm512_mask_mov_ps(inf, lt, c)), live);
       }
     }
+    _mm512_store_si512(cell_size_.c, size);
   }
 #endif
 
@@ -479,6 +493,25 @@ class fused_lanes_padded {
     return m;
   }
 
+  /// Per-owner cell volumes of the sixteen lanes, counted in vector registers by the AVX-512 search
+  /// (one 32-bit lane each: a lane's count is at most the grid's size, below 2^31 where it is used);
+  /// flush_counts() adds them to the lanes' accumulators after the search.
+  struct alignas(64) counts {
+    std::int32_t c[lanes];
+  };
+  void flush_counts(int n, accumulators* const* acc, std::size_t* visited) {
+    for (const label_t o : count_owners_) {
+      std::int32_t* c = count_[std::size_t(o)].c;
+      for (int j = 0; j < n; ++j)
+        if (c[j] != 0) acc[j]->touch(o), acc[j]->volume[std::size_t(o)] += c[j];
+      for (int j = 0; j < lanes; ++j) c[j] = 0;
+      count_seen_[std::size_t(o)] = 0;
+    }
+    count_owners_.clear();
+    for (int j = 0; j < n; ++j) visited[j] += std::size_t(cell_size_.c[j]);
+    for (int j = 0; j < lanes; ++j) cell_size_.c[j] = 0;
+  }
+
   const P& p_;
   const padded_grid<P>& g_;
   const piecewise_tables<P>* pw_;
@@ -499,6 +532,10 @@ class fused_lanes_padded {
   std::vector<block> facet_count_;
   std::vector<char> facet_seen_;
   std::vector<label_t> facet_owners_;
+  std::vector<counts> count_;
+  std::vector<char> count_seen_;
+  std::vector<label_t> count_owners_;
+  counts cell_size_{};
 };
 
 #else
