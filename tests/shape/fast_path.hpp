@@ -2,7 +2,7 @@
 // (detail/shape/fused_padded.hpp) against the brute-force definition on connectivities and metrics the
 // other cases leave out, on grids of a few voxels per axis (most voxels lie on the border, where the
 // padding stands in for the bounds checks), with a user metric (which keeps the negative-weight check)
-// and with a metric that returns a negative weight; and the sixteen-lane search (fused_lanes.hpp, its
+// and with a metric that returns a negative weight; and the lane search (fused_lanes.hpp, its
 // AVX-512 and SSE2 forms) against the one-query search, bit for bit.
 
 namespace gvshape {
@@ -38,7 +38,7 @@ TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: the padded fast 
   }
 }
 
-/// Weights of @p p with the default budget (the sixteen-lane search, where it applies) and with a budget
+/// Weights of @p p with the default budget (the lane search, where it applies) and with a budget
 /// that holds one one-query worker only, compared bit for bit; whole grid and chosen points.
 template <class P>
 void lanes_case(std::mt19937_64& rng, const P& p, const std::string& what) {
@@ -103,7 +103,7 @@ void lanes_case(std::mt19937_64& rng, const P& p, const std::string& what) {
   }
 }
 
-TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: sixteen queries per search give the weights of "
+TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: 32 queries per search give the weights of "
           "one query per search, bit for bit") {
   std::mt19937_64 rng(20261202);
   lanes_engaged = 0;

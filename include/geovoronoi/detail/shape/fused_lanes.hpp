@@ -1,16 +1,17 @@
 #pragma once
-// Sixteen insert-queries in one search: the padded fused search (fused_padded.hpp) with one distance
+// Thirty-two insert-queries in one search: the padded fused search (fused_padded.hpp) with one distance
 // lane per query. The fast path of Sibson and Laplace for float problems with a built-in metric on
 // x86 hosts; fused_padded.hpp stays the path for every other problem.
 //
 // Why: the cells of neighbouring queries overlap almost entirely (on the steak phantom the union of
-// 16 queries in a 4x2x2 block of voxels is 1.4-1.6 times one cell), and the expensive part of a search
-// -- the heap, loading the 26 neighbours, their field values and the edge weights -- does not depend on
-// the query. So each voxel carries 16 keys, one per query (one 64-byte cache line), and one settle
-// relaxes all of them with one AVX-512 register per neighbour where the CPU has it (chosen at run
-// time), else four SSE2 registers.
+// 16 queries in a 4x2x2 block of voxels is 1.4-1.6 times one cell, of 32 in a 4x4x2 block about 2.2),
+// and the expensive part of a search -- the heap, loading the 26 neighbours, their field values and
+// the edge weights -- does not depend on the query. So each voxel carries 32 keys, one per query (two
+// 64-byte cache lines), and one settle relaxes all of them with two AVX-512 registers per neighbour
+// where the CPU has it (chosen at run time), else eight SSE2 registers. With 16 lanes a search on the
+// steak settled fewer voxels but cost about 1.2 times as much per query (docs/shape-functions.md).
 //
-// Why the results are bit for bit those of sixteen single searches. For one lane (query q), the single
+// Why the results are bit for bit those of single searches. For one lane (query q), the single
 // search's keys end at the greatest solution, below the initial keys, of
 //     key(q) = 0,   key(u) = min(bound(u), min over neighbours v with key(v) < bound(v) of fl(key(v) + w(v, u)))
 // (bound = the diagram's distance; key(v) < bound(v) is "v is in the cell"; a cut edge is no neighbour).
@@ -33,7 +34,9 @@
 //
 // Counting while searching. A lane enters a voxel's cell at most once (its key drops below the bound
 // for good), so the owner's volume and the lane's cell size are counted at that moment, from the data
-// already in registers; no pass over the cell re-reads the keys from memory after the search.
+// already in registers: the lanes entering a voxel share its owner, so a masked vector addition per
+// register (AVX-512; SSE2: four lanes per addition) counts them all in the owner's row, and the rows
+// go into the lanes' accumulators after the search; no pass over the cell re-reads the keys.
 // Laplace's facets need the final keys, so they are counted in a pass after the search, over the
 // touched voxels sorted by address (that pass and the reset then sweep memory in order; 2.5x faster
 // on the steak than in the search's order).
@@ -72,7 +75,7 @@ namespace geovoronoi::detail::shape {
 #define GEOVORONOI_LANES_AVX512 1
 #endif
 
-/// Whether the sixteen-lane search may use AVX-512 where the CPU has it (on by default). The tests turn
+/// Whether the lane search may use AVX-512 where the CPU has it (on by default). The tests turn
 /// it off to check the SSE2 search against it; set it before a call, not during one.
 inline std::atomic<bool>& lanes_avx512_switch() noexcept {
   static std::atomic<bool> on{true};
@@ -80,36 +83,41 @@ inline std::atomic<bool>& lanes_avx512_switch() noexcept {
 }
 inline bool lanes_avx512_enabled() noexcept { return lanes_avx512_switch().load(std::memory_order_relaxed); }
 
-/// Whether the sixteen-lane search applies to problem type P: float and a built-in metric (weights on
+/// Whether the lane search applies to problem type P: float and a built-in metric (weights on
 /// SSE lanes; >= 0 or NaN between inside voxels).
 template <class P>
 struct fused_lanes_apply
     : std::bool_constant<std::is_same_v<typename P::value_type, float> && sse_weight<typename P::metric_type>::value &&
                          metric_never_negative<typename P::metric_type>::value> {};
 
-/// One worker's scratch for sixteen queries per search on the padded layout.
+/// One worker's scratch for 32 queries per search on the padded layout.
 template <class P>
 class fused_lanes_padded {
  public:
   using T = float;
   using heap_type = distance_radix_heap<T>;
-  static constexpr int lanes = 16;
+  static constexpr int lanes = 32;
   static constexpr int K = P::neighbours;
   static constexpr int KV = (K + 3) / 4 * 4;
-  static constexpr int NV = lanes / 4;  // SSE vectors per voxel
+  static constexpr int NV = lanes / 4;   // SSE vectors per voxel
+  static constexpr int NZ = lanes / 16;  // AVX-512 vectors per voxel
 
   /// Bytes of the dense part of one scratch: the lanes, the field and the pending priority per padded voxel.
   static std::size_t dense_bytes(const P& p) {
     return padded_grid<P>::padded_size(p) * (sizeof(block) + 2 * sizeof(T));
   }
   static std::size_t heap_item_bytes() noexcept { return sizeof(typename heap_type::item); }
+  /// Bytes per node of the per-owner rows: the AVX-512 facet pass's four blocks (least h, face counts
+  /// per axis), the volume counts, the seen flags and owner lists.
+  static std::size_t per_node_bytes() noexcept {
+    return 4 * sizeof(block) + sizeof(counts) + 2 * (sizeof(char) + sizeof(label_t));
+  }
 
   fused_lanes_padded(const P& p, const padded_grid<P>& g, const piecewise_tables<P>* pw = nullptr)
       : p_(p), g_(g), pw_(pw), key_(g.size()), field_(g.size(), T(0)), pend_(g.size(), untouched) {
     for (int k = 0; k < KV; ++k) delta_[k] = k < K ? g.delta()[k] : 0, len_[k] = k < K ? g.length()[k] : T(0);
 #ifdef GEOVORONOI_LANES_AVX512
-    // (the vector volume counts hold a lane's count in 32 bits: below 2^31 voxels)
-    wide_ = lanes_avx512_enabled() && __builtin_cpu_supports("avx512f") && g.size() < (std::size_t(1) << 31);
+    wide_ = lanes_avx512_enabled() && __builtin_cpu_supports("avx512f");
     // a lane's facet count is at most 2 Dim times its cell's size: 32-bit lanes hold it below 2^31 / 6 voxels
     wide_facets_ = p.geometry.size() < (index_t(1) << 28);
 #endif
@@ -127,7 +135,8 @@ class fused_lanes_padded {
     return key_.capacity() * sizeof(block) + (field_.capacity() + pend_.capacity()) * sizeof(T) +
            (touched_.capacity() + sorted_.capacity()) * sizeof(std::uint32_t) + heap_peak_ * heap_item_bytes() +
            (facet_h_.capacity() + facet_count_.capacity()) * sizeof(block) + facet_seen_.capacity() +
-           facet_owners_.capacity() * sizeof(label_t);
+           facet_owners_.capacity() * sizeof(label_t) + count_.capacity() * sizeof(counts) + count_seen_.capacity() +
+           count_owners_.capacity() * sizeof(label_t);
   }
 
   /**
@@ -142,7 +151,7 @@ class fused_lanes_padded {
     std::size_t live = 0;
     for (int j = 0; j < n; ++j) seed(j, q[j], *acc[j], visited[j], live);
     if (count_.size() < acc[0]->volume.size()) count_.resize(acc[0]->volume.size()), count_seen_.resize(count_.size(), 0);
-    search(acc, visited, live);
+    search(live);
     flush_counts(n, acc, visited);
     if (laplace) {
       sort_touched();  // the facet pass and the reset then sweep memory in address order
@@ -259,24 +268,34 @@ class fused_lanes_padded {
     }
     return true;
   }
-  /// Neighbour u improved in some lanes, the least improved key @p m; the lanes in @p fresh entered
-  /// u's cell just now (owner and cell size counted); u is queued at m.
-  void improved(accumulators* const* acc, std::size_t* visited, std::uint32_t u, unsigned fresh, T m,
-                std::size_t& live) {
-    const label_t owner = g_.data()[u].label;
-    while (fresh) {
-      const int j = __builtin_ctz(fresh);
-      fresh &= fresh - 1;
-      enter(*acc[j], visited[j], owner);
-    }
-    queue(u, m, live);
+  /// The row of count_ for @p owner (>= 0), noted for flush_counts().
+  std::int32_t* count_row(label_t owner) {
+    if (!count_seen_[std::size_t(owner)]) count_seen_[std::size_t(owner)] = 1, count_owners_.push_back(owner);
+    return count_[std::size_t(owner)].c;
+  }
+  /// The lanes in @p fresh entered the cell of a voxel owned by @p owner just now: their cell sizes and
+  /// the owner's volume, four lanes per SSE addition (a lane's mask is -1: subtracting it adds one).
+  void count_fresh(unsigned fresh, label_t owner) {
+    alignas(16) static const std::int32_t bits[16][4] = {
+        {0, 0, 0, 0},   {-1, 0, 0, 0},   {0, -1, 0, 0},  {-1, -1, 0, 0},  {0, 0, -1, 0},  {-1, 0, -1, 0},
+        {0, -1, -1, 0}, {-1, -1, -1, 0}, {0, 0, 0, -1},  {-1, 0, 0, -1},  {0, -1, 0, -1}, {-1, -1, 0, -1},
+        {0, 0, -1, -1}, {-1, 0, -1, -1}, {0, -1, -1, -1}, {-1, -1, -1, -1}};
+    auto add = [&](std::int32_t* row) {
+      for (int i = 0; i < NV; ++i) {
+        auto* x = reinterpret_cast<__m128i*>(row + 4 * i);
+        const __m128i mask = _mm_load_si128(reinterpret_cast<const __m128i*>(bits[(fresh >> (4 * i)) & 15u]));
+        _mm_store_si128(x, _mm_sub_epi32(_mm_load_si128(x), mask));
+      }
+    };
+    add(cell_size_.c);
+    if (owner >= 0) add(count_row(owner));
   }
   cut_mask_t cut_of(std::uint32_t v) const noexcept {
     if constexpr (P::has_cuts) return g_.cut_mask(index_t(v));
     return 0;
   }
 
-  void search(accumulators* const* acc, std::size_t* visited, std::size_t& live) {
+  void search(std::size_t& live) {
 #ifdef GEOVORONOI_LANES_AVX512
     if (wide_) return search_avx512(live);
 #endif
@@ -323,7 +342,8 @@ class fused_lanes_padded {
         }
         m = _mm_min_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(1, 0, 3, 2)));
         m = _mm_min_ps(m, _mm_shuffle_ps(m, m, _MM_SHUFFLE(2, 3, 0, 1)));
-        improved(acc, visited, u, fresh, _mm_cvtss_f32(m), live);
+        if (fresh) count_fresh(fresh, in[u].label);
+        queue(u, _mm_cvtss_f32(m), live);
       }
     }
   }
@@ -340,43 +360,66 @@ class fused_lanes_padded {
     x = _mm512_mask_min_ps(x, all, x, _mm512_mask_shuffle_ps(x, all, x, x, _MM_SHUFFLE(2, 3, 0, 1)));
     return _mm512_cvtss_f32(x);
   }
-  /// The same search with a voxel's 16 keys in one AVX-512 register: the same per-lane IEEE operations
-  /// and tests, masks instead of blends.
+  /// The same search with a voxel's keys in AVX-512 registers (16 lanes each): the same per-lane IEEE
+  /// operations and tests, masks instead of blends.
   __attribute__((target("avx512f"))) void search_avx512(std::size_t& live) {
     const auto* in = g_.data();
     block* key = key_.data();
     const __m512 inf = _mm512_set1_ps(std::numeric_limits<T>::infinity());
     const __m512i one = _mm512_set1_epi32(1);
-    __m512i size = _mm512_load_si512(cell_size_.c);
+    __m512i size[NZ];
+    for (int z = 0; z < NZ; ++z) size[z] = _mm512_load_si512(cell_size_.c + 16 * z);
     std::uint32_t v;
     T w[KV];
     while (next(v, w, live)) {
-      const __m512 a = _mm512_load_ps(key[v].k);
-      const __m512 kv = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(a, _mm512_set1_ps(in[v].bound), _CMP_LT_OQ), inf, a);
+      __m512 kv[NZ];
+      const __m512 bv = _mm512_set1_ps(in[v].bound);
+      for (int z = 0; z < NZ; ++z) {
+        const __m512 a = _mm512_load_ps(key[v].k + 16 * z);
+        kv[z] = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(a, bv, _CMP_LT_OQ), inf, a);
+      }
       const cut_mask_t cut = cut_of(v);
       for (int k = 0; k < K; ++k) {
         if ((cut >> k) & 1u) continue;
         const std::uint32_t u = std::uint32_t(index_t(v) + delta_[k]);
         T* ku = key[u].k;
-        const __m512 old = _mm512_load_ps(ku);
-        const __m512 c = _mm512_add_ps(kv, _mm512_set1_ps(w[k]));
-        const __mmask16 lt = __mmask16(_mm512_cmp_ps_mask(kv, old, _CMP_LT_OQ) & _mm512_cmp_ps_mask(c, old, _CMP_LT_OQ));
-        if (!lt) continue;
-        const __mmask16 fresh = lt & ~_mm512_cmp_ps_mask(old, _mm512_set1_ps(in[u].bound), _CMP_LT_OQ);
-        _mm512_mask_store_ps(ku, lt, c);
-        if (fresh) {  // lanes entering u's cell now: its owner's volume and the cell sizes, one add each
-          size = _mm512_mask_add_epi32(size, fresh, size, one);
-          const label_t owner = in[u].label;
-          if (owner >= 0) {
-            std::int32_t* co = count_[std::size_t(owner)].c;
-            _mm512_store_si512(co, _mm512_mask_add_epi32(_mm512_load_si512(co), fresh, _mm512_load_si512(co), one));
-            if (!count_seen_[std::size_t(owner)]) count_seen_[std::size_t(owner)] = 1, count_owners_.push_back(owner);
+        const __m512 wk = _mm512_set1_ps(w[k]);
+        __m512 old[NZ], c[NZ];
+        __mmask16 lt[NZ];
+        unsigned any = 0;
+        for (int z = 0; z < NZ; ++z) {
+          old[z] = _mm512_load_ps(ku + 16 * z);
+          c[z] = _mm512_add_ps(kv[z], wk);
+          lt[z] = __mmask16(_mm512_cmp_ps_mask(kv[z], old[z], _CMP_LT_OQ) & _mm512_cmp_ps_mask(c[z], old[z], _CMP_LT_OQ));
+          any |= lt[z];
+        }
+        if (!any) continue;
+        // store the improved lanes; count those entering u's cell now; queue u at the least improved key
+        const auto& r = in[u];
+        const __m512 bu = _mm512_set1_ps(r.bound);
+        __mmask16 fresh[NZ];
+        unsigned any_fresh = 0;
+        __m512 m = inf;
+        for (int z = 0; z < NZ; ++z) {
+          fresh[z] = __mmask16(lt[z] & ~_mm512_cmp_ps_mask(old[z], bu, _CMP_LT_OQ));
+          any_fresh |= fresh[z];
+          _mm512_mask_store_ps(ku + 16 * z, lt[z], c[z]);
+          m = _mm512_mask_min_ps(m, lt[z], m, c[z]);  // the least improved key (masked: see least())
+        }
+        if (any_fresh) {  // the owner's volume and the cell sizes, one masked addition per register
+          for (int z = 0; z < NZ; ++z) size[z] = _mm512_mask_add_epi32(size[z], fresh[z], size[z], one);
+          if (r.label >= 0) {
+            std::int32_t* row = count_row(r.label);
+            for (int z = 0; z < NZ; ++z) {
+              const __m512i x = _mm512_load_si512(row + 16 * z);
+              _mm512_store_si512(row + 16 * z, _mm512_mask_add_epi32(x, fresh[z], x, one));
+            }
           }
         }
-        queue(u, least(_mm512_mask_mov_ps(inf, lt, c)), live);
+        queue(u, least(m), live);
       }
     }
-    _mm512_store_si512(cell_size_.c, size);
+    for (int z = 0; z < NZ; ++z) _mm512_store_si512(cell_size_.c + 16 * z, size[z]);
   }
 #endif
 
@@ -410,7 +453,7 @@ class fused_lanes_padded {
   }
 #ifdef GEOVORONOI_LANES_AVX512
   /**
-   * The same facet pairs with the sixteen lanes in one register: for a face (v, w) the lanes with v in
+   * The same facet pairs with 16 lanes per AVX-512 register: for a face (v, w) the lanes with v in
    * their cell and w not form a mask, h = (key + c(v, w)) + d(w) is the same two IEEE additions per
    * lane, and per owner k the lanes keep their least h (a masked min: the old value stays where h is not
    * smaller, as the scalar test `h < best` keeps it) and their face counts per axis in vectors, which go
@@ -428,14 +471,22 @@ class fused_lanes_padded {
       facet_count_.resize(3 * nodes);
       facet_seen_.assign(nodes, 0);
     }
-    const __mmask16 all = __mmask16(n >= lanes ? 0xFFFFu : (1u << n) - 1u);
+    static_assert(lanes <= 32, "fused_lanes_padded: lane masks are 32-bit");
+    const std::uint32_t all = n >= 32 ? ~std::uint32_t(0) : (std::uint32_t(1) << n) - 1u;
     const __m512 inf = _mm512_set1_ps(std::numeric_limits<T>::infinity());
     const __m512i one = _mm512_set1_epi32(1);
-    unsigned with_facet = 0;
+    std::uint32_t with_facet = 0;
     for (std::uint32_t v : touched_) {
-      const __m512 kv = _mm512_load_ps(key_[v].k);
-      const __mmask16 cell_v = __mmask16(_mm512_cmp_ps_mask(kv, _mm512_set1_ps(in[v].bound), _CMP_LT_OQ) & all);
-      if (!cell_v) continue;
+      __m512 kv[NZ];
+      __mmask16 cell_v[NZ];
+      unsigned any_v = 0;
+      const __m512 bv = _mm512_set1_ps(in[v].bound);
+      for (int z = 0; z < NZ; ++z) {
+        kv[z] = _mm512_load_ps(key_[v].k + 16 * z);
+        cell_v[z] = __mmask16(_mm512_cmp_ps_mask(kv[z], bv, _CMP_LT_OQ) & (all >> (16 * z)));
+        any_v |= cell_v[z];
+      }
+      if (!any_v) continue;
       const T fv = field_[v];
       // the faces of for_each_labelled_face, written out (a lambda would not inherit the target)
       const cut_mask_t cut = cut_of(v);
@@ -445,25 +496,36 @@ class fused_lanes_padded {
         const label_t k = in[w].label;
         if (k == no_label) continue;
         const T bw = in[w].bound;
-        const __mmask16 in_w = _mm512_cmp_ps_mask(_mm512_load_ps(key_[std::size_t(w)].k), _mm512_set1_ps(bw), _CMP_LT_OQ);
-        const __mmask16 pair = __mmask16(cell_v & ~in_w);  // lanes with v in the cell and w not
-        if (!pair) continue;
+        const __m512 bwv = _mm512_set1_ps(bw);
+        __mmask16 pair[NZ];  // lanes with v in the cell and w not
+        unsigned any_pair = 0;
+        for (int z = 0; z < NZ; ++z) {
+          const __mmask16 in_w = _mm512_cmp_ps_mask(_mm512_load_ps(key_[std::size_t(w)].k + 16 * z), bwv, _CMP_LT_OQ);
+          pair[z] = __mmask16(cell_v[z] & ~in_w);
+          any_pair |= pair[z];
+        }
+        if (!any_pair) continue;
         const std::size_t o = std::size_t(k);
         if (!facet_seen_[o]) {
           facet_seen_[o] = 1;
           facet_owners_.push_back(k);
-          _mm512_store_ps(facet_h_[o].k, inf);
-          for (int a = 0; a < 3; ++a) _mm512_store_si512(facet_count_[3 * o + std::size_t(a)].k, _mm512_setzero_si512());
+          for (int z = 0; z < NZ; ++z) {
+            _mm512_store_ps(facet_h_[o].k + 16 * z, inf);
+            for (int a = 0; a < 3; ++a)
+              _mm512_store_si512(facet_count_[3 * o + std::size_t(a)].k + 16 * z, _mm512_setzero_si512());
+          }
         }
         const T cvw = p_.metric(p_.edges.length[ft.edge[i]], fv, field_[std::size_t(w)]);
         const T dw = g_.diagram_distance(w, bw);
-        const __m512 h = _mm512_add_ps(_mm512_add_ps(kv, _mm512_set1_ps(cvw)), _mm512_set1_ps(dw));
-        const __m512 best = _mm512_load_ps(facet_h_[o].k);
-        _mm512_store_ps(facet_h_[o].k, _mm512_mask_min_ps(best, pair, h, best));  // h < best ? h : best
         float* c = facet_count_[3 * o + std::size_t(ft.axis[i])].k;
-        const __m512i count = _mm512_load_si512(c);
-        _mm512_store_si512(c, _mm512_mask_add_epi32(count, pair, count, one));
-        with_facet |= pair;
+        for (int z = 0; z < NZ; ++z) {
+          const __m512 h = _mm512_add_ps(_mm512_add_ps(kv[z], _mm512_set1_ps(cvw)), _mm512_set1_ps(dw));
+          const __m512 best = _mm512_load_ps(facet_h_[o].k + 16 * z);
+          _mm512_store_ps(facet_h_[o].k + 16 * z, _mm512_mask_min_ps(best, pair[z], h, best));  // h < best ? h : best
+          const __m512i count = _mm512_load_si512(c + 16 * z);
+          _mm512_store_si512(c + 16 * z, _mm512_mask_add_epi32(count, pair[z], count, one));
+          with_facet |= std::uint32_t(pair[z]) << (16 * z);
+        }
       }
     }
     for (const label_t k : facet_owners_) {
@@ -493,9 +555,9 @@ class fused_lanes_padded {
     return m;
   }
 
-  /// Per-owner cell volumes of the sixteen lanes, counted in vector registers by the AVX-512 search
-  /// (one 32-bit lane each: a lane's count is at most the grid's size, below 2^31 where it is used);
-  /// flush_counts() adds them to the lanes' accumulators after the search.
+  /// Per-owner cell volumes of the lanes, counted by vector additions during the search (32 bits each:
+  /// a lane's count is at most the grid's size, below 2^31 where the lanes are used); flush_counts()
+  /// adds them to the lanes' accumulators after the search.
   struct alignas(64) counts {
     std::int32_t c[lanes];
   };

@@ -177,7 +177,7 @@ struct fused_worker {
 };
 
 #ifdef GEOVORONOI_FUSED_LANES
-/// A worker of the sixteen-lane search (fused_lanes.hpp): consecutive queries share a search.
+/// A worker of the lane search (fused_lanes.hpp): consecutive queries share a search.
 template <class P>
 struct fused_lanes_worker {
   static constexpr int lanes = fused_lanes_padded<P>::lanes;
@@ -232,23 +232,24 @@ std::size_t fused_worker_budget(const P& p, std::size_t nodes) {
 }
 
 #ifdef GEOVORONOI_FUSED_LANES
-/// Bytes one sixteen-lane worker is budgeted (besides the shared tables): its dense arrays, room for a
-/// touched list of the whole grid (twice: Laplace sorts it) and a queue of half of it, the accumulators
-/// of its lanes and the per-owner vectors of its AVX-512 facet pass (four 64-byte blocks per node).
+/// Bytes one lane worker is budgeted (besides the shared tables): its dense arrays, room for a touched
+/// list of the whole grid (twice: Laplace sorts it) and a queue of half of it, the accumulators of its
+/// lanes and its per-owner rows (volume counts, the AVX-512 facet pass's vectors).
 template <class P>
 std::size_t fused_lanes_worker_bytes(const P& p, std::size_t nodes) {
   const std::size_t n = std::size_t(p.geometry.size());
   return fused_lanes_padded<P>::dense_bytes(p) + 2 * n * sizeof(std::uint32_t) +
          n / 2 * fused_lanes_padded<P>::heap_item_bytes() + fused_lanes_padded<P>::lanes * (nodes * 64 + 4096) +
-         nodes * (4 * 64 + 8) + 65536;
+         nodes * fused_lanes_padded<P>::per_node_bytes() + 65536;
 }
 
-/// Whether Sibson/Laplace on problem @p p with @p policy run the sixteen-lane search (fused_lanes.hpp)
+/// Whether Sibson/Laplace on problem @p p with @p policy run the lane search (fused_lanes.hpp)
 /// given the memory budget (queries then go in Morton order, so that a search's lanes are neighbours).
 template <class Policy, class P>
 bool uses_fused_lanes(const P& p, std::size_t nodes, std::size_t budget) {
   if constexpr (queries_on_host<Policy>::value && fused_lanes_apply<P>::value) {
-    return padded_grid<P>::applies(p) && !translation_invariant(p) &&
+    // (the lanes count cell volumes in 32 bits: grids below 2^31 voxels)
+    return padded_grid<P>::applies(p) && p.geometry.size() < (index_t(1) << 31) && !translation_invariant(p) &&
            budget >= fused_lanes_worker_bytes(p, nodes) + padded_grid<P>::shared_bytes(p);
   } else {
     return false;
@@ -259,9 +260,9 @@ template <class Policy, class P>
 bool uses_fused_lanes(const P&, std::size_t, std::size_t) { return false; }
 #endif
 
-/// Whether queries (rows, voxels voxel_of[row]) in this order are clustered enough for sixteen per
+/// Whether queries (rows, voxels voxel_of[row]) in this order are clustered enough for the lane
 /// search: at least half of the consecutive pairs are at most 2 voxels apart in every axis. A search
-/// of lanes whose cells do not overlap costs about as much per lane as sixteen searches each, and a
+/// of lanes whose cells do not overlap costs about as much per lane as one search each, and a
 /// lane of a sparse set (1000 points scattered over a volume) shares almost nothing with its neighbours.
 template <class P>
 bool clustered_queries(const P& p, const std::vector<index_t>& queries, const index_t* voxel_of) {
@@ -339,7 +340,7 @@ void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, co
 }
 
 /**
- * Sibson/Laplace on a host backend: sixteen queries per search (fused_lanes.hpp) where it applies and
+ * Sibson/Laplace on a host backend: 32 queries per search (fused_lanes.hpp) where it applies and
  * the budget holds one such worker, else one fused search per query (fused_padded.hpp where it applies,
  * else fused_query.hpp); run in tasks of consecutive queries on the backend's host threads, with as
  * many worker scratches alive as memory_budget holds. Progress is reported as voxels visited over an
@@ -370,7 +371,7 @@ void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, cons
     const padded_grid<P> g(p, dist, lab);
 #ifdef GEOVORONOI_FUSED_LANES
     if constexpr (fused_lanes_apply<P>::value) {
-      // sixteen queries per search (fused_lanes.hpp) where the budget holds one such worker
+      // 32 queries per search (fused_lanes.hpp) where the budget holds one such worker
       const std::size_t each = fused_lanes_worker_bytes(p, nodes);
       const std::size_t fixed = (pw ? pw->bytes() : 0) + g.bytes();
       if (lanes && opt.memory_budget >= fixed + each) {
@@ -433,8 +434,8 @@ void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const 
   // that consecutive queries are near each other in all axes, their cells overlap and a search finds
   // much of its neighbourhood in the cache. Rows already in voxel order (the whole grid) keep it. Each
   // row is computed on its own, so the order changes no result.
-  // The sixteen-lane search wants Morton order always: its lanes are then a 4x2x2 block of voxels, not
-  // a row of 16, and their cells overlap far more.
+  // The lane search wants Morton order always: its 32 lanes are then a 4x4x2 block of voxels, not
+  // a row of 32, and their cells overlap far more.
   const bool lanes_fit = uses_fused_lanes<Policy>(p, nodes, opt.memory_budget);
   if (lanes_fit ||
       !std::is_sorted(queries.begin(), queries.end(), [&](index_t a, index_t b) { return voxel_of[a] < voxel_of[b]; })) {
