@@ -81,6 +81,18 @@ void lanes_case(std::mt19937_64& rng, const P& p, const std::string& what) {
       CHECK(a.node == narrow.node);
       CHECK(std::memcmp(a.weight.data(), narrow.weight.data(), a.weight.size() * sizeof(a.weight[0])) == 0);
     }
+    // both widths (the loop takes 32 lanes here: the budget is large), AVX-512 and SSE2
+    for (const int width : {16, 32})
+      for (const bool avx512 : {true, false}) {
+        INFO("lanes " << width << (avx512 ? " AVX-512" : " SSE2"));
+        sh::lanes_width_switch() = width;
+        sh::lanes_avx512_switch() = avx512;
+        const auto w = gv::shape_functions(GEOVORONOI_SHAPE_POLICY(), p, d, o);
+        sh::lanes_width_switch() = 0;
+        sh::lanes_avx512_switch() = true;
+        CHECK(a.node == w.node);
+        CHECK(std::memcmp(a.weight.data(), w.weight.data(), a.weight.size() * sizeof(a.weight[0])) == 0);
+      }
 #endif
     o.memory_budget = single;
     REQUIRE_FALSE(sh::uses_fused_lanes<Policy>(p, seeds.size(), o.memory_budget));

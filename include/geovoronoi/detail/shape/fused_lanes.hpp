@@ -1,5 +1,5 @@
 #pragma once
-// Thirty-two insert-queries in one search: the padded fused search (fused_padded.hpp) with one distance
+// 32 (or 16) insert-queries in one search: the padded fused search (fused_padded.hpp) with one distance
 // lane per query. The fast path of Sibson and Laplace for float problems with a built-in metric on
 // x86 hosts; fused_padded.hpp stays the path for every other problem.
 //
@@ -9,7 +9,9 @@
 // the edge weights -- does not depend on the query. So each voxel carries 32 keys, one per query (two
 // 64-byte cache lines), and one settle relaxes all of them with two AVX-512 registers per neighbour
 // where the CPU has it (chosen at run time), else eight SSE2 registers. With 16 lanes a search on the
-// steak settled fewer voxels but cost about 1.2 times as much per query (docs/shape-functions.md).
+// steak settled fewer voxels but cost about 1.2 times as much per query (docs/shape-functions.md);
+// the query loop still takes 16 lanes (half the memory per worker) where the memory budget would
+// otherwise run fewer workers than threads.
 //
 // Why the results are bit for bit those of single searches. For one lane (query q), the single
 // search's keys end at the greatest solution, below the initial keys, of
@@ -90,13 +92,22 @@ struct fused_lanes_apply
     : std::bool_constant<std::is_same_v<typename P::value_type, float> && sse_weight<typename P::metric_type>::value &&
                          metric_never_negative<typename P::metric_type>::value> {};
 
-/// One worker's scratch for 32 queries per search on the padded layout.
-template <class P>
+/// The lanes per search the query loop may choose (0: its own choice, 32 where the memory budget holds
+/// as many such workers as it would use of 16 lanes). The tests set 16 or 32 to compare both widths;
+/// set it before a call, not during one.
+inline std::atomic<int>& lanes_width_switch() noexcept {
+  static std::atomic<int> width{0};
+  return width;
+}
+
+/// One worker's scratch for L (16 or 32) queries per search on the padded layout.
+template <class P, int L = 32>
 class fused_lanes_padded {
  public:
+  static_assert(L == 16 || L == 32, "fused_lanes_padded: 16 or 32 lanes");
   using T = float;
   using heap_type = distance_radix_heap<T>;
-  static constexpr int lanes = 32;
+  static constexpr int lanes = L;
   static constexpr int K = P::neighbours;
   static constexpr int KV = (K + 3) / 4 * 4;
   static constexpr int NV = lanes / 4;   // SSE vectors per voxel

@@ -21,6 +21,7 @@
 #include <utility>
 #include <cstdint>
 #include <limits>
+#include <thread>
 #include <vector>
 
 namespace geovoronoi::detail::shape {
@@ -177,17 +178,17 @@ struct fused_worker {
 };
 
 #ifdef GEOVORONOI_FUSED_LANES
-/// A worker of the lane search (fused_lanes.hpp): consecutive queries share a search.
-template <class P>
+/// A worker of the lane search (fused_lanes.hpp, L lanes): consecutive queries share a search.
+template <class P, int L>
 struct fused_lanes_worker {
-  static constexpr int lanes = fused_lanes_padded<P>::lanes;
+  static constexpr int lanes = L;
   /// Queries per task: four searches, the first of which is the progress estimate's sample (a sample
   /// of one query would run a search of one lane, about three times the cost per query). Small tasks
-  /// keep the threads busy up to each progress report: a batch of 4096 queries is 32 tasks (with 16
-  /// searches per task, 8 tasks left threads idle at every report: steak128 Sibson 32.9 s against 31.1 s
-  /// on two threads).
+  /// keep the threads busy up to each progress report: a batch of 4096 queries is 32 tasks of 32 lanes
+  /// (with 16 searches per task, 8 tasks left threads idle at every report: steak128 Sibson 32.9 s
+  /// against 31.1 s on two threads).
   static constexpr std::size_t queries_per_task = 4 * lanes;
-  fused_lanes_padded<P> search;
+  fused_lanes_padded<P, L> search;
   std::vector<query_scratch<typename P::value_type>> s;  // one per lane
   std::size_t peak = 0;
   fused_lanes_worker(std::size_t nodes, const P& p, const padded_grid<P>& g, const piecewise_tables<P>* pw)
@@ -238,12 +239,12 @@ std::size_t fused_worker_budget(const P& p, std::size_t nodes) {
 /// Bytes one lane worker is budgeted (besides the shared tables): its dense arrays, room for a touched
 /// list of the whole grid (twice: Laplace sorts it) and a queue of half of it, the accumulators of its
 /// lanes and its per-owner rows (volume counts, the AVX-512 facet pass's vectors).
-template <class P>
+template <int L, class P>
 std::size_t fused_lanes_worker_bytes(const P& p, std::size_t nodes) {
+  using S = fused_lanes_padded<P, L>;
   const std::size_t n = std::size_t(p.geometry.size());
-  return fused_lanes_padded<P>::dense_bytes(p) + 2 * n * sizeof(std::uint32_t) +
-         n / 2 * fused_lanes_padded<P>::heap_item_bytes() + fused_lanes_padded<P>::lanes * (nodes * 64 + 4096) +
-         nodes * fused_lanes_padded<P>::per_node_bytes() + 65536;
+  return S::dense_bytes(p) + 2 * n * sizeof(std::uint32_t) + n / 2 * S::heap_item_bytes() +
+         std::size_t(L) * (nodes * 64 + 4096) + nodes * S::per_node_bytes() + 65536;
 }
 
 /// Whether Sibson/Laplace on problem @p p with @p policy run the lane search (fused_lanes.hpp)
@@ -253,7 +254,7 @@ bool uses_fused_lanes(const P& p, std::size_t nodes, std::size_t budget) {
   if constexpr (queries_on_host<Policy>::value && fused_lanes_apply<P>::value) {
     // (the lanes count cell volumes in 32 bits: grids below 2^31 voxels)
     return padded_grid<P>::applies(p) && p.geometry.size() < (index_t(1) << 31) && !translation_invariant(p) &&
-           budget >= fused_lanes_worker_bytes(p, nodes) + padded_grid<P>::shared_bytes(p);
+           budget >= fused_lanes_worker_bytes<16>(p, nodes) + padded_grid<P>::shared_bytes(p);
   } else {
     return false;
   }
@@ -374,15 +375,31 @@ void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, cons
     const padded_grid<P> g(p, dist, lab);
 #ifdef GEOVORONOI_FUSED_LANES
     if constexpr (fused_lanes_apply<P>::value) {
-      // 32 queries per search (fused_lanes.hpp) where the budget holds one such worker
-      const std::size_t each = fused_lanes_worker_bytes(p, nodes);
+      // several queries per search (fused_lanes.hpp) where the budget holds one such worker: 32 where it
+      // holds as many workers of 32 lanes as the threads would use of 16 (a worker of 32 lanes holds
+      // 128 bytes of keys per voxel, of 16 lanes 64; on two threads 32 lanes are 1.2x faster, but one
+      // worker where two would fit is 2x slower), else 16
       const std::size_t fixed = (pw ? pw->bytes() : 0) + g.bytes();
-      if (lanes && opt.memory_budget >= fixed + each) {
-        scratch_pool<fused_lanes_worker<P>> pool((opt.memory_budget - fixed) / each, [&] {
-          return std::make_unique<fused_lanes_worker<P>>(nodes, p, g, pw.get());
-        });
-        fused_query_loop(policy, opt, laplace, faces, queries, voxel_of, write, pool, fixed,
-                         fused_lanes_worker<P>::queries_per_task, fused_lanes_worker<P>::lanes);
+      const std::size_t each16 = fused_lanes_worker_bytes<16>(p, nodes), each32 = fused_lanes_worker_bytes<32>(p, nodes);
+      if (lanes && opt.memory_budget >= fixed + each16) {
+        const std::size_t room = opt.memory_budget - fixed;
+        std::size_t threads = 1;
+        if constexpr (has_host_parallel_for<Policy>::value) threads = std::max(1u, std::thread::hardware_concurrency());
+        const int forced = lanes_width_switch().load(std::memory_order_relaxed);
+        const bool wide = forced ? forced == 32 && room >= each32 : room / each32 >= std::min(room / each16, threads);
+        auto run = [&](auto width) {
+          constexpr int L = decltype(width)::value;
+          const std::size_t each = L == 32 ? each32 : each16;
+          scratch_pool<fused_lanes_worker<P, L>> pool(room / each, [&] {
+            return std::make_unique<fused_lanes_worker<P, L>>(nodes, p, g, pw.get());
+          });
+          fused_query_loop(policy, opt, laplace, faces, queries, voxel_of, write, pool, fixed,
+                           fused_lanes_worker<P, L>::queries_per_task, L);
+        };
+        if (wide)
+          run(std::integral_constant<int, 32>());
+        else
+          run(std::integral_constant<int, 16>());
         return;
       }
     }
