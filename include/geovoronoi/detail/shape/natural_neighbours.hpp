@@ -344,7 +344,7 @@ void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, co
 }
 
 /**
- * Sibson/Laplace on a host backend: 32 queries per search (fused_lanes.hpp) where it applies and
+ * Sibson/Laplace on a host backend: 32 or 16 queries per search (fused_lanes.hpp) where it applies and
  * the budget holds one such worker, else one fused search per query (fused_padded.hpp where it applies,
  * else fused_query.hpp); run in tasks of consecutive queries on the backend's host threads, with as
  * many worker scratches alive as memory_budget holds. Progress is reported as voxels visited over an
@@ -377,8 +377,8 @@ void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, cons
     if constexpr (fused_lanes_apply<P>::value) {
       // several queries per search (fused_lanes.hpp) where the budget holds one such worker: 32 where it
       // holds as many workers of 32 lanes as the threads would use of 16 (a worker of 32 lanes holds
-      // 128 bytes of keys per voxel, of 16 lanes 64; on two threads 32 lanes are 1.2x faster, but one
-      // worker where two would fit is 2x slower), else 16
+      // 128 bytes of keys per voxel, of 16 lanes 64; 32 lanes are 1.1-1.2x faster on the steak, but one
+      // worker where two threads could each run one is about 2x slower), else 16
       const std::size_t fixed = (pw ? pw->bytes() : 0) + g.bytes();
       const std::size_t each16 = fused_lanes_worker_bytes<16>(p, nodes), each32 = fused_lanes_worker_bytes<32>(p, nodes);
       if (lanes && opt.memory_budget >= fixed + each16) {
