@@ -278,15 +278,13 @@ std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_rat
   state->seeds = d_after.seeds;
   state->nodes.resize(std::size_t(nodes));
   const auto whole = without_cuts(after);
-  // d_max reads a cell and its face neighbours: it can change only for the cells, before or after,
-  // of the voxels of X and their face neighbours (a face that was cut has both ends in X)
-  std::vector<char> bound_may_change(std::size_t(nodes), 0);
   // appended and moved nodes: their searches from scratch
   std::vector<char> fresh(std::size_t(nodes), 1);
   for (label_t i = 0; i < old_count; ++i)
     fresh[std::size_t(i)] = d_after.seeds[std::size_t(i)] != old.seeds[std::size_t(i)];
-  for (label_t i = 0; i < nodes; ++i)
-    if (fresh[std::size_t(i)]) bound_may_change[std::size_t(i)] = 1;
+  // d_max reads a cell and its face neighbours: it can change only for fresh nodes and for the cells,
+  // before or after, of the voxels of X and their face neighbours (a face that was cut has both ends in X)
+  std::vector<char> bound_may_change = fresh;
   for (const index_t v : xs) {
     auto mark = [&](index_t y) {
       if (before.label[y] != no_label) bound_may_change[std::size_t(before.label[y])] = 1;

@@ -185,8 +185,8 @@ struct fused_lanes_worker {
   /// Queries per task: four searches, the first of which is the progress estimate's sample (a sample
   /// of one query would run a search of one lane, about three times the cost per query). Small tasks
   /// keep the threads busy up to each progress report: a batch of 4096 queries is 32 tasks of 32 lanes
-  /// (with 16 searches per task, 8 tasks left threads idle at every report: steak128 Sibson 32.9 s
-  /// against 31.1 s on two threads).
+  /// (with 16 searches per task it would be 8, and a thread would wait at every report for the other's
+  /// last task; docs/shape-functions.md).
   static constexpr std::size_t queries_per_task = 4 * lanes;
   fused_lanes_padded<P, L> search;
   std::vector<query_scratch<typename P::value_type>> s;  // one per lane
