@@ -77,8 +77,10 @@ struct shape_options {
   bool reuse_constant_regions = true;
   /// Optional: filled with statistics of the call (see shape_stats).
   shape_stats* stats = nullptr;
-  /// Optional progress callback, called between backend calls with the fraction done in [0, 1];
-  /// returning false cancels the computation, which then throws geovoronoi::cancelled.
+  /// Optional progress callback, called on the calling thread with the fraction done in [0, 1]: between
+  /// backend calls, or (Sibson and Laplace on host backends) after one of that thread's tasks once
+  /// batch_size queries have completed since the previous report. Returning false cancels the
+  /// computation, which then throws geovoronoi::cancelled.
   std::function<bool(double)> progress;
   /// Host threads of the host-parallel backends (Thrust on OpenMP or TBB; their per-query and
   /// per-node loops and solves); 0: the system's default. The weights do not depend on it.
