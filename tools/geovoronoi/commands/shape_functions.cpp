@@ -4,6 +4,7 @@
 #include "../outputs.hpp"
 #include "../seed_file.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -64,29 +65,52 @@ std::string duration_text(double s) {
 
 /// Sibson and Laplace search a new cell per voxel; where the field is not constant (no distance-table
 /// shortcut) that is minutes to hours on a large volume. Before the full run, time the same queries on
-/// two evenly spread samples of the voxels (48, then 96: the difference cancels the fixed set-up
-/// cost) and, when the extrapolation to every voxel passes a minute, say so in one line up front.
+/// two samples on one thread and, when the extrapolation to every voxel on the run's @p threads passes a
+/// minute, say so in one line up front. A sample is whole 4x4x2 blocks of voxels around evenly spread
+/// queries: the full run searches such blocks together (32 queries per search where the library's lane
+/// search applies), and scattered single voxels would time one search per query, several times the
+/// cost per query of the run (8x on the steak). The larger sample holds the smaller one and as many
+/// blocks again; their difference cancels the fixed set-up cost.
 template <class T, class Fns, class Spec>
 void warn_if_long(const Fns& fns, const Spec& spec, const gv::diagram<T, 3>& d, gv::shape_options opt,
-                  const char* method, progress_bar& bar) {
-  std::vector<gv::index_t> queries;  // voxels whose weights come from a search: reached, not a node
+                  const char* method, unsigned threads, progress_bar& bar) {
+  auto is_query = [&](gv::index_t v) {  // its weights come from a search: reached, not a node
+    return d.distance[v] > T(0) && d.distance[v] < std::numeric_limits<T>::infinity();
+  };
+  std::vector<gv::index_t> queries;
   for (gv::index_t v = 0; v < d.distance.size(); ++v)
-    if (d.distance[v] > T(0) && d.distance[v] < std::numeric_limits<T>::infinity()) queries.push_back(v);
-  constexpr std::size_t small = 48, large = 96;
-  if (queries.size() < 20 * large) return;  // a few thousand queries: seconds at most
-  auto sample = [&](std::size_t m) {
-    point_spec at;
-    const auto& g = d.distance.geometry();
-    for (std::size_t i = 0; i < m; ++i) at.voxels.push_back(g.coords(queries[i * queries.size() / m]));
+    if (is_query(v)) queries.push_back(v);
+  if (queries.size() < 2000) return;  // a few thousand queries: seconds at most
+  constexpr std::size_t blocks = 24;  // in the smaller sample; the larger has twice as many
+  const auto& g = d.distance.geometry();
+  point_spec at;
+  auto add_blocks = [&](std::size_t first) {  // the blocks of anchors first, first + 2, ... of 2 x blocks
+    for (std::size_t i = first; i < 2 * blocks; i += 2) {
+      const auto c = g.coords(queries[(2 * i + 1) * queries.size() / (4 * blocks)]);
+      const gv::index_t x0 = c[0] & ~gv::index_t(3), y0 = c[1] & ~gv::index_t(3), z0 = c[2] & ~gv::index_t(1);
+      for (gv::index_t z = z0; z < std::min(z0 + 2, g.extent(2)); ++z)
+        for (gv::index_t y = y0; y < std::min(y0 + 4, g.extent(1)); ++y)
+          for (gv::index_t x = x0; x < std::min(x0 + 4, g.extent(0)); ++x)
+            if (is_query(g.index({x, y, z}))) at.voxels.push_back({x, y, z});
+    }
+  };
+  auto time_sample = [&] {
     const auto t0 = std::chrono::steady_clock::now();
     (void)fns.shape_at(spec, d, at, opt);
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
   opt.progress = nullptr;
   opt.stats = nullptr;
-  const double t_small = sample(small), t_large = sample(large);
-  const double per_query = t_large > t_small ? (t_large - t_small) / double(large - small) : t_large / double(large);
-  const double estimate = per_query * double(queries.size());
+  opt.threads = 1;
+  add_blocks(0);
+  const std::size_t n_small = at.voxels.size();
+  const double t_small = time_sample();
+  add_blocks(1);
+  const std::size_t n_large = at.voxels.size();
+  const double t_large = time_sample();
+  const double per_query = n_large > n_small && t_large > t_small ? (t_large - t_small) / double(n_large - n_small)
+                                                                   : t_large / double(n_large);
+  const double estimate = per_query * double(queries.size()) / double(std::max(1u, threads));
   if (estimate < 60.0) return;
   bar.note("geovoronoi shape-functions: note: " + std::string(method) + " on " + std::to_string(queries.size()) +
            " voxels is estimated at about " + duration_text(estimate) +
@@ -124,7 +148,8 @@ int run(const std::vector<std::string>& args) {
     }
     if (method != gv::shape_method::distance_ratio) {
       bar.update("estimating the work");
-      warn_if_long(fns, j.spec<T>(), d, opt, method_name(method), bar);
+      const unsigned threads = std::string(j.solver->name) == "thrust" ? thrust_threads() : 1u;
+      warn_if_long(fns, j.spec<T>(), d, opt, method_name(method), threads, bar);
       bar.update(method_name(method), 0.0);
     }
     const auto w = fns.shape(j.spec<T>(), d, opt);
