@@ -134,7 +134,10 @@ class fused_lanes_padded {
     wide_facets_ = p.geometry.size() < (index_t(1) << 28);
 #endif
     const auto* in = g.data();
-    for (std::size_t w = 0; w < key_.size(); ++w) fill(key_[w], in[w].bound), rec_[w] = {in[w].bound, in[w].label, T(0), untouched};
+    for (std::size_t w = 0; w < key_.size(); ++w) {
+      fill(key_[w], in[w].bound);
+      rec_[w] = {in[w].bound, in[w].label, T(0), untouched};
+    }
     for (index_t z = 0; z < g.extent(2); ++z)
       for (index_t y = 0; y < g.extent(1); ++y) {
         const index_t o = g.extent(0) * (y + g.extent(1) * z);
@@ -275,7 +278,8 @@ class fused_lanes_padded {
     const rec* fld = rec_.data();
     const __m128 fv = _mm_set1_ps(fld[v].field);
     for (int k = 0; k < KV; k += 4) {
-      const __m128 fu = _mm_set_ps(fld[v + delta_[k + 3]].field, fld[v + delta_[k + 2]].field, fld[v + delta_[k + 1]].field, fld[v + delta_[k]].field);
+      const __m128 fu = _mm_set_ps(fld[v + delta_[k + 3]].field, fld[v + delta_[k + 2]].field,
+                                   fld[v + delta_[k + 1]].field, fld[v + delta_[k]].field);
       _mm_storeu_ps(w + k, W::apply(_mm_loadu_ps(len_ + k), fv, fu));
     }
     return true;
@@ -592,8 +596,9 @@ class fused_lanes_padded {
   std::vector<block> key_;
   // What the search reads of a voxel besides its keys, in one 16-byte record: the diagram's distance
   // (the keys' bound) and label (copies of the shared padded_grid's), the field, and the pending priority
-  // (>= 0, or untouched / idle above). A row of three neighbours is then one cache line rather than one in each of three
-  // arrays (steak128 Sibson on two threads 3 % faster on average, in six of seven pairs, 2026-12-02).
+  // (>= 0, or untouched / idle above). A row of three neighbours is then one cache line rather than
+  // one in each of three arrays (steak128 Sibson on two threads 3 % faster on average, in six of seven
+  // pairs, 2026-12-02).
   struct alignas(16) rec {
     T bound;
     label_t label;
