@@ -326,8 +326,8 @@ void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, co
   progress_now();
   // 2. the rest, in one loop over the groups (consecutive queries are neighbours: their searches share
   // the cache). The calling thread reports progress, and so checks for cancellation, after a task of its
-  // own once the groups done since its last report hold a batch of queries: a barrier per report made a
-  // thread wait for the other's last task at every batch (4-5 % of the steak's Sibson on two threads).
+  // own once the groups done since its last report hold a batch of queries, so no thread waits for the
+  // other's last task at a report (a barrier per batch costs 4-5 % of the steak's Sibson on two threads).
   // A cancellation thrown there skips the tasks not yet started (host_parallel_for).
   const std::size_t groups_per_batch = std::max<std::size_t>(1, opt.batch_size / group);
   const std::thread::id caller = std::this_thread::get_id();
