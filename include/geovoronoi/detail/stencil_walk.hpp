@@ -29,6 +29,22 @@ struct stencil_walker {
     static_assert(P::dim == Dim, "stencil_walker: the problem's dimension differs from the walker's");
   }
 
+  /// Whether voxel @p v lies off the grid's border, so that v + delta[k] is its k-th neighbour for
+  /// every k (the test of for_each_neighbour's fast path; that loop keeps its own copy inline).
+  GEOVORONOI_HOST_DEVICE bool interior(index_t v) const {
+    index_t x, y, z;
+    if (small) {
+      const std::uint32_t vv = std::uint32_t(v), nx32 = std::uint32_t(nx), nxy32 = std::uint32_t(nxy);
+      const std::uint32_t zz = vv / nxy32, r = vv - zz * nxy32, yy = r / nx32;
+      z = index_t(zz), y = index_t(yy), x = index_t(r - yy * nx32);
+    } else {
+      z = v / nxy;
+      const index_t r = v - z * nxy;
+      y = r / nx;
+      x = r - y * nx;
+    }
+    return x > 0 && x < nx - 1 && y > 0 && y < ny - 1 && (Dim == 2 || (z > 0 && z < nz - 1));
+  }
   /// Calls f(k, u) for each neighbour u = v + offset k of @p p's stencil that lies inside the grid
   /// and whose edge to @p v is not cut (for a problem with cuts; without, the cut test compiles away).
   /// Calls f(k, u) for each in-grid, uncut neighbour u of @p v, in increasing k; the connectivity's

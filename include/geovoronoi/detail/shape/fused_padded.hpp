@@ -33,6 +33,7 @@
 #include <geovoronoi/detail/shape/common.hpp>
 #include <geovoronoi/detail/shape/fused_query.hpp>
 #include <geovoronoi/detail/shape/piecewise.hpp>
+#include <geovoronoi/detail/sse_metric.hpp>
 #include <geovoronoi/metric.hpp>
 
 #include <algorithm>
@@ -43,9 +44,6 @@
 #include <type_traits>
 #include <vector>
 
-#if defined(__SSE2__) && !defined(__CUDA_ARCH__)
-#include <emmintrin.h>
-#endif
 
 namespace geovoronoi::detail::shape {
 
@@ -273,33 +271,6 @@ struct metric_never_negative
     : std::bool_constant<std::is_same_v<M, uniform> || std::is_same_v<M, min_stiffness> ||
                          std::is_same_v<M, mean_stiffness> || std::is_same_v<M, mean_cost>> {};
 
-#if defined(__SSE2__) && !defined(__CUDA_ARCH__)
-/// The built-in metrics' weights on four float lanes: the operations of their scalar expressions
-/// (metric.hpp), in the same order and with the same operands.
-template <class M>
-struct sse_weight : std::false_type {};
-template <>
-struct sse_weight<uniform> : std::true_type {
-  static __m128 apply(__m128 len, __m128, __m128) noexcept { return len; }
-};
-template <>
-struct sse_weight<min_stiffness> : std::true_type {
-  // bu < bv ? bu : bv is minps(bu, bv) exactly, NaN included (both give bv when unordered)
-  static __m128 apply(__m128 len, __m128 bu, __m128 bv) noexcept { return _mm_div_ps(len, _mm_min_ps(bu, bv)); }
-};
-template <>
-struct sse_weight<mean_stiffness> : std::true_type {
-  static __m128 apply(__m128 len, __m128 bu, __m128 bv) noexcept {
-    return _mm_div_ps(_mm_mul_ps(_mm_set1_ps(2.0f), len), _mm_add_ps(bu, bv));
-  }
-};
-template <>
-struct sse_weight<mean_cost> : std::true_type {
-  static __m128 apply(__m128 len, __m128 cu, __m128 cv) noexcept {
-    return _mm_mul_ps(len, _mm_mul_ps(_mm_add_ps(cu, cv), _mm_set1_ps(0.5f)));
-  }
-};
-#endif
 
 /// One worker's scratch for fused queries on the padded layout (same interface as fused_query).
 template <class P>
