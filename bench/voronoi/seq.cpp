@@ -23,6 +23,10 @@ GEOVORONOI_BENCH_MAIN()
 // z 6..26). Each iteration restores the diagram before the cut outside the timed region.
 #include <geovoronoi/cut_from_mesh.hpp>
 #include <geovoronoi/update.hpp>
+#if defined(GEOVORONOI_BENCH_THRUST_OMP)  // bench_voronoi_thrust links this file: its update cases too
+#include <geovoronoi/backend/thrust.hpp>
+#include <thrust/system/omp/execution_policy.h>
+#endif
 
 namespace {
 namespace gvb = geovoronoi;
@@ -60,7 +64,8 @@ struct steak_cut_case {
   }
 };
 
-void bench_full_steak128(benchmark::State& state, bool cold) {
+template <class Policy>
+void bench_full_steak128(benchmark::State& state, const Policy& pol, bool cold) {
   const auto& c = steak_cut_case::get();
   const auto p = gvb::make_problem(c.field.geometry(), c.field, gvb::min_stiffness{}, gvb::connectivity<26>{});
   const auto after = gvb::with_cuts(p, c.table);
@@ -70,18 +75,18 @@ void bench_full_steak128(benchmark::State& state, bool cold) {
       evict_caches();
       state.ResumeTiming();
     }
-    auto d = gvb::voronoi(gvb::seq, after, c.seeds, gvb::solve_options{true});
+    auto d = gvb::voronoi(pol, after, c.seeds, gvb::solve_options{true});
     benchmark::DoNotOptimize(d);
   }
 }
 
-/// Times update_in_place(seq, after, d, change) on a copy of @p before that is restored outside the
+/// Times update_in_place(pol, after, d, change) on a copy of @p before that is restored outside the
 /// timer before every iteration; returns the last iteration's statistics. @p cold: the caches are
 /// also emptied (evict_caches) after the restore, outside the timer. Warm, the bench repeats the same
 /// update on a region that the previous iteration left in L2; cold is the other bound (an
 /// application that ran other work between two edits lies in between).
-template <class P, class Change>
-gvb::update_stats time_updates(benchmark::State& state, const P& after, const gvb::diagram<float, 3>& before,
+template <class Policy, class P, class Change>
+gvb::update_stats time_updates(benchmark::State& state, const Policy& pol, const P& after, const gvb::diagram<float, 3>& before,
                                const Change& change, bool cold = false) {
   auto d = before;
   gvb::update_stats s;
@@ -93,25 +98,27 @@ gvb::update_stats time_updates(benchmark::State& state, const P& after, const gv
     d.seeds = before.seeds;
     if (cold) evict_caches();
     state.ResumeTiming();
-    s = gvb::update_in_place(gvb::seq, after, d, change);
+    s = gvb::update_in_place(pol, after, d, change);
     benchmark::DoNotOptimize(d);
   }
   return s;
 }
 
-void bench_update_steak128_cut20(benchmark::State& state, bool cold) {
+template <class Policy>
+void bench_update_steak128_cut20(benchmark::State& state, const Policy& pol, bool cold) {
   const auto& c = steak_cut_case::get();
   const auto p = gvb::make_problem(c.field.geometry(), c.field, gvb::min_stiffness{}, gvb::connectivity<26>{});
   const auto after = gvb::with_cuts(p, c.table);
   const auto before = gvb::voronoi(gvb::seq, p, c.seeds, gvb::solve_options{true});
-  const auto s = time_updates(state, after, before, c.blade, cold);
+  const auto s = time_updates(state, pol, after, before, c.blade, cold);
   state.counters["cut_edges"] = double(c.blade.size());
   state.counters["invalidated"] = double(s.invalidated);
   state.counters["boundary"] = double(s.boundary);
 }
 // `update/seq/steak128/carve8`: the 8^3 voxels x 66..73, y 62..69, z 12..19 (beside the bone's stem)
 // leave the domain (stiffness 0); same restore-outside-the-timer scheme.
-void bench_update_steak128_carve8(benchmark::State& state) {
+template <class Policy>
+void bench_update_steak128_carve8(benchmark::State& state, const Policy& pol) {
   const auto& c = steak_cut_case::get();
   const auto& g = c.field.geometry();
   const auto p = gvb::make_problem(g, c.field, gvb::min_stiffness{}, gvb::connectivity<26>{});
@@ -125,14 +132,15 @@ void bench_update_steak128_carve8(benchmark::State& state) {
         carved_field[carve.voxels.back()] = 0.0f;
       }
   const auto after = gvb::make_problem(g, carved_field, gvb::min_stiffness{}, gvb::connectivity<26>{});
-  const auto s = time_updates(state, after, before, carve);
+  const auto s = time_updates(state, pol, after, before, carve);
   state.counters["invalidated"] = double(s.invalidated);
   state.counters["boundary"] = double(s.boundary);
 }
 
 // `update/seq/steak128/stiffen8` and `soften8`: the field of the same 8^3 voxels doubled (stiffer) or
 // halved (softer); restiffened voxels, same restore scheme.
-void bench_update_steak128_restiffen8(benchmark::State& state, float factor) {
+template <class Policy>
+void bench_update_steak128_restiffen8(benchmark::State& state, const Policy& pol, float factor) {
   const auto& c = steak_cut_case::get();
   const auto& g = c.field.geometry();
   const auto p = gvb::make_problem(g, c.field, gvb::min_stiffness{}, gvb::connectivity<26>{});
@@ -147,7 +155,7 @@ void bench_update_steak128_restiffen8(benchmark::State& state, float factor) {
         edited[v] *= factor;
       }
   const auto after = gvb::make_problem(g, edited, gvb::min_stiffness{}, gvb::connectivity<26>{});
-  const auto s = time_updates(state, after, before, ch);
+  const auto s = time_updates(state, pol, after, before, ch);
   state.counters["invalidated"] = double(s.invalidated);
   state.counters["lowered"] = double(s.lowered);
   state.counters["settled"] = double(s.settled);
@@ -158,7 +166,8 @@ void bench_update_steak128_restiffen8(benchmark::State& state, float factor) {
 // the node with the largest cell (about 40 % of the domain) does. A move re-solves the moved node's
 // whole cell, so its cost is proportional to that cell. The diagram (and its node list) is restored
 // outside the timer.
-void bench_update_steak128_nodes(benchmark::State& state, int move, bool cold = false) {
+template <class Policy>
+void bench_update_steak128_nodes(benchmark::State& state, const Policy& pol, int move, bool cold = false) {
   const auto& c = steak_cut_case::get();
   const auto& g = c.field.geometry();
   const auto p = gvb::make_problem(g, c.field, gvb::min_stiffness{}, gvb::connectivity<26>{});
@@ -182,7 +191,7 @@ void bench_update_steak128_nodes(benchmark::State& state, int move, bool cold = 
     while (!(c.field[g.index(at)] > 0.0f)) ++at[0];
     ch.nodes = {gvb::node_edit<3>::add(at)};
   }
-  const auto s = time_updates(state, p, before, ch, cold);
+  const auto s = time_updates(state, pol, p, before, ch, cold);
   state.counters["invalidated"] = double(s.invalidated);
   state.counters["lowered"] = double(s.lowered);
   state.counters["settled"] = double(s.settled);
@@ -216,7 +225,8 @@ struct sweep_case {
   }
 };
 
-void bench_update_steak128_sweep(benchmark::State& state, bool with_cut) {
+template <class Policy>
+void bench_update_steak128_sweep(benchmark::State& state, const Policy& pol, bool with_cut) {
   const auto& c = steak_cut_case::get();
   const auto& sw = sweep_case::get();
   const auto& g = c.field.geometry();
@@ -239,9 +249,9 @@ void bench_update_steak128_sweep(benchmark::State& state, bool with_cut) {
       auto piece = gvb::cut_from_blade_sweep(g, gvb::connectivity<26>{}, {sw.positions[step], sw.positions[step + 1]});
       all.merge(piece);
       const gvb::cut_table table(all);
-      invalidated += gvb::update_in_place(gvb::seq, gvb::with_cuts(p, table), d, piece).invalidated;
+      invalidated += gvb::update_in_place(pol, gvb::with_cuts(p, table), d, piece).invalidated;
     } else {
-      invalidated += gvb::update_in_place(gvb::seq, gvb::with_cuts(p, sw.table[step]), d, sw.strip[step]).invalidated;
+      invalidated += gvb::update_in_place(pol, gvb::with_cuts(p, sw.table[step]), d, sw.strip[step]).invalidated;
     }
     benchmark::DoNotOptimize(d);
     ++t, ++updates;
@@ -249,28 +259,40 @@ void bench_update_steak128_sweep(benchmark::State& state, bool with_cut) {
   state.counters["updates_per_s"] = benchmark::Counter(double(updates), benchmark::Counter::kIsRate);
   state.counters["invalidated_per_step"] = double(invalidated) / double(updates);
 }
-}  // namespace
 
-GEOVORONOI_BENCH_REGISTER(register_update_cases) {
+/// Registers `voronoi/<backend>/steak128[_cold]` and `update/<backend>/steak128/<edit>[_cold]` for one
+/// backend policy. The update is the same host algorithm on every backend (docs/cuts.md); the full
+/// solve is the backend's own, so the ratios say what an update saves on that backend.
+template <class Policy>
+void register_update_family(const std::string& backend, const Policy& pol) {
   // every case in milliseconds of wall time, at least a second of iterations
-  auto add = [](const char* name, void (*fn)(benchmark::State&)) {
-    benchmark::RegisterBenchmark(name, fn)
+  auto add = [](const std::string& name, auto fn) {
+    benchmark::RegisterBenchmark(name.c_str(), fn)
         ->Unit(benchmark::kMillisecond)
         ->UseRealTime()
         ->Apply(geovoronoi::bench::min_time_1s);
   };
-  add("update/seq/steak128/carve8", bench_update_steak128_carve8);
-  add("voronoi/seq/steak128", [](benchmark::State& s) { bench_full_steak128(s, false); });
-  add("update/seq/steak128/cut20", [](benchmark::State& s) { bench_update_steak128_cut20(s, false); });
+  const std::string full = "voronoi/" + backend + "/steak128", upd = "update/" + backend + "/steak128/";
+  add(upd + "carve8", [pol](benchmark::State& s) { bench_update_steak128_carve8(s, pol); });
+  add(full, [pol](benchmark::State& s) { bench_full_steak128(s, pol, false); });
+  add(upd + "cut20", [pol](benchmark::State& s) { bench_update_steak128_cut20(s, pol, false); });
   // the cold variants empty every cache before each timed step (evict_caches)
-  add("voronoi/seq/steak128_cold", [](benchmark::State& s) { bench_full_steak128(s, true); });
-  add("update/seq/steak128/cut20_cold", [](benchmark::State& s) { bench_update_steak128_cut20(s, true); });
-  add("update/seq/steak128/add_node_cold", [](benchmark::State& s) { bench_update_steak128_nodes(s, 0, true); });
-  add("update/seq/steak128/stiffen8", [](benchmark::State& s) { bench_update_steak128_restiffen8(s, 2.0f); });
-  add("update/seq/steak128/soften8", [](benchmark::State& s) { bench_update_steak128_restiffen8(s, 0.5f); });
-  add("update/seq/steak128/add_node", [](benchmark::State& s) { bench_update_steak128_nodes(s, 0); });
-  add("update/seq/steak128/move_node", [](benchmark::State& s) { bench_update_steak128_nodes(s, 1); });
-  add("update/seq/steak128/move_node_largest", [](benchmark::State& s) { bench_update_steak128_nodes(s, 2); });
-  add("update/seq/steak128/sweep", [](benchmark::State& s) { bench_update_steak128_sweep(s, false); });
-  add("update/seq/steak128/sweep_with_cut", [](benchmark::State& s) { bench_update_steak128_sweep(s, true); });
+  add(full + "_cold", [pol](benchmark::State& s) { bench_full_steak128(s, pol, true); });
+  add(upd + "cut20_cold", [pol](benchmark::State& s) { bench_update_steak128_cut20(s, pol, true); });
+  add(upd + "add_node_cold", [pol](benchmark::State& s) { bench_update_steak128_nodes(s, pol, 0, true); });
+  add(upd + "stiffen8", [pol](benchmark::State& s) { bench_update_steak128_restiffen8(s, pol, 2.0f); });
+  add(upd + "soften8", [pol](benchmark::State& s) { bench_update_steak128_restiffen8(s, pol, 0.5f); });
+  add(upd + "add_node", [pol](benchmark::State& s) { bench_update_steak128_nodes(s, pol, 0); });
+  add(upd + "move_node", [pol](benchmark::State& s) { bench_update_steak128_nodes(s, pol, 1); });
+  add(upd + "move_node_largest", [pol](benchmark::State& s) { bench_update_steak128_nodes(s, pol, 2); });
+  add(upd + "sweep", [pol](benchmark::State& s) { bench_update_steak128_sweep(s, pol, false); });
+  add(upd + "sweep_with_cut", [pol](benchmark::State& s) { bench_update_steak128_sweep(s, pol, true); });
+}
+}  // namespace
+
+GEOVORONOI_BENCH_REGISTER(register_update_cases) {
+  register_update_family("seq", gvb::seq);
+#if defined(GEOVORONOI_BENCH_THRUST_OMP)
+  register_update_family("thrust_omp", gvb::thrust::par_on(::thrust::omp::par));
+#endif
 }
