@@ -30,7 +30,10 @@ struct stencil_walker {
   }
 
   /// Whether voxel @p v lies off the grid's border, so that v + delta[k] is its k-th neighbour for
-  /// every k (the test of for_each_neighbour's fast path; that loop keeps its own copy inline).
+  /// every k (the test of for_each_neighbour's fast path). That loop keeps its own copy of the decoding:
+  /// sharing it through a helper changes the instructions GCC emits for the seq solve (1114 -> 1116 at
+  /// -O3), whose no-cut form docs/benchmarks.md compares instruction for instruction with the solve
+  /// from before cuts.
   GEOVORONOI_HOST_DEVICE bool interior(index_t v) const {
     index_t x, y, z;
     if (small) {
@@ -45,11 +48,10 @@ struct stencil_walker {
     }
     return x > 0 && x < nx - 1 && y > 0 && y < ny - 1 && (Dim == 2 || (z > 0 && z < nz - 1));
   }
-  /// Calls f(k, u) for each neighbour u = v + offset k of @p p's stencil that lies inside the grid
-  /// and whose edge to @p v is not cut (for a problem with cuts; without, the cut test compiles away).
-  /// Calls f(k, u) for each in-grid, uncut neighbour u of @p v, in increasing k; the connectivity's
-  /// offsets are in (z, y, x) lexicographic order, so the neighbours come in increasing linear index
-  /// (the parent rule of update.hpp takes the first realiser it meets as the lowest-index one).
+  /// Calls f(k, u) for each in-grid neighbour u = v + offset k of @p p's stencil whose edge to @p v is
+  /// not cut (for a problem with cuts; without, the cut test compiles away), in increasing k; the
+  /// connectivity's offsets are in (z, y, x) lexicographic order, so the neighbours come in increasing
+  /// linear index (the parent rule of update.hpp takes the first realiser it meets as the lowest-index one).
   template <class P, class F>
   GEOVORONOI_HOST_DEVICE void for_each_neighbour(const P& p, index_t v, F&& f) const {
     index_t x, y, z;
