@@ -21,6 +21,8 @@ GEOVORONOI_BENCH_MAIN()
 // after the cut; `update/seq/steak128/cut20` updates the diagram before the cut (with parents) in
 // place after a planar 20 x 20 mm blade beside the bone's stem (the plane x = 70.5 mm, y 60..80,
 // z 6..26). Each iteration restores the diagram before the cut outside the timed region.
+// bench_voronoi_thrust, which links this file, registers every case on thrust_omp as well
+// (`voronoi/thrust_omp/steak128`, `update/thrust_omp/steak128/<edit>`).
 #include <geovoronoi/cut_from_mesh.hpp>
 #include <geovoronoi/update.hpp>
 #if defined(GEOVORONOI_BENCH_THRUST_OMP)  // bench_voronoi_thrust links this file: its update cases too
@@ -86,8 +88,8 @@ void bench_full_steak128(benchmark::State& state, const Policy& pol, bool cold) 
 /// update on a region that the previous iteration left in L2; cold is the other bound (an
 /// application that ran other work between two edits lies in between).
 template <class Policy, class P, class Change>
-gvb::update_stats time_updates(benchmark::State& state, const Policy& pol, const P& after, const gvb::diagram<float, 3>& before,
-                               const Change& change, bool cold = false) {
+gvb::update_stats time_updates(benchmark::State& state, const Policy& pol, const P& after,
+                               const gvb::diagram<float, 3>& before, const Change& change, bool cold = false) {
   auto d = before;
   gvb::update_stats s;
   for (auto _ : state) {
