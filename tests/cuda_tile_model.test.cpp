@@ -224,8 +224,12 @@ void require_same(const D1& a, const D2& b, const std::string& what) {
   CHECK(bad < 0);
 }
 
+int cut_changed = 0;  ///< cut cases whose answer differs from the same problem without cuts
+
+/// @p cut: the problem also carries random cut edges (25 % or 60 % of the edges), which the kernels'
+/// pull, push and label steps read through the problem's cut mask.
 template <int Dim, int N, class Metric>
-void float_cases(std::mt19937_64& rng, int trials, bool cost) {
+void float_cases(std::mt19937_64& rng, int trials, bool cost, bool cut = false) {
   for (int trial = 0; trial < trials; ++trial) {
     // grids up to 3 tiles wide, so pushes cross tile borders in every direction
     gv::coord<Dim> e{};
@@ -235,19 +239,35 @@ void float_cases(std::mt19937_64& rng, int trials, bool cost) {
     for (auto& x : sp) x = trial % 2 ? 0.5 + double(rng() % 100) / 50.0 : 1.0;
     const gv::grid<Dim> gg(e, sp, {});
     const auto f = gvtest::random_field<float>(rng, gg.size(), trial % 3 != 2, trial % 4 == 0 ? 0.0 : 0.2, cost);
-    const auto p = gv::make_problem(gg, f, Metric{}, gv::connectivity<N>{});
-    const auto seeds = gvtest::random_seeds(rng, p, 1 + int(rng() % 6));
+    const auto p0 = gv::make_problem(gg, f, Metric{}, gv::connectivity<N>{});
+    const auto seeds = gvtest::random_seeds(rng, p0, 1 + int(rng() % 6));
     if (seeds.empty()) continue;
-    auto src = gvtest::as_sources(p, seeds);
+    auto src = gvtest::as_sources(p0, seeds);
     if (trial % 5 == 1) src[0].distance = 0.75f;
     const float radius = trial % 3 == 0 ? 3.5f : std::numeric_limits<float>::infinity();
     gv::solve_options opt;
     opt.max_distance = radius;
-    const auto expect = gv::geodesic_solve(gv::seq, p, src, opt);
-    const std::string what = "float dim " + std::to_string(Dim) + " N " + std::to_string(N) + " trial " +
-                             std::to_string(trial);
-    require_same(model_solve_float(p, src, radius, schedule::one_by_one), expect, what + " one by one");
-    require_same(model_solve_float(p, src, radius, schedule::all_stale), expect, what + " all stale");
+    const std::string what = std::string(cut ? "cut " : "") + "float dim " + std::to_string(Dim) + " N " +
+                             std::to_string(N) + " trial " + std::to_string(trial);
+    auto check = [&](const auto& p) {
+      const auto expect = gv::geodesic_solve(gv::seq, p, src, opt);
+      require_same(model_solve_float(p, src, radius, schedule::one_by_one), expect, what + " one by one");
+      require_same(model_solve_float(p, src, radius, schedule::all_stale), expect, what + " all stale");
+      return expect;
+    };
+    if (!cut) {
+      check(p0);
+      continue;
+    }
+    const gv::cut_table table(gvtest::random_cuts(rng, gg, gv::connectivity<N>{}, trial % 4 == 1 ? 0.6 : 0.25));
+    const auto with = check(gv::with_cuts(p0, table));
+    // the cuts change the answer (else the case would not test them): some voxel differs
+    const auto without = gv::geodesic_solve(gv::seq, p0, src, opt);
+    for (index_t v = 0; v < gg.size(); ++v)
+      if (bits(with.distance[v]) != bits(without.distance[v]) || with.label[v] != without.label[v]) {
+        ++cut_changed;
+        break;
+      }
   }
 }
 
@@ -261,6 +281,18 @@ TEST_CASE("cuda model: tiled relaxation equals seq, float, every connectivity an
   float_cases<3, 18, gv::mean_stiffness>(rng, 10, false);
   float_cases<3, 26, gv::min_stiffness>(rng, 10, false);
   float_cases<3, 26, gv::mean_cost>(rng, 10, true);
+}
+
+TEST_CASE("cuda model: tiled relaxation with cut edges equals seq, float, both schedules") {
+  std::mt19937_64 rng(1313);
+  cut_changed = 0;
+  float_cases<2, 4, gv::min_stiffness>(rng, 12, false, true);
+  float_cases<2, 8, gv::mean_cost>(rng, 12, true, true);
+  float_cases<3, 6, gv::uniform>(rng, 10, false, true);
+  float_cases<3, 18, gv::mean_stiffness>(rng, 10, false, true);
+  float_cases<3, 26, gv::min_stiffness>(rng, 10, false, true);
+  float_cases<3, 26, gv::mean_cost>(rng, 10, true, true);
+  CHECK(cut_changed >= 20);  // most problems' answers depend on their cuts
 }
 
 TEST_CASE("cuda model: double distances plus the label pass equal seq") {
