@@ -53,6 +53,8 @@ struct shape_stats {
   std::size_t voxels_visited = 0;
   /// Queries searched (voxels with d > 0 whose weights come from a new cell).
   std::size_t queries = 0;
+  /// Sibson: rows written as 1 for their own node without a search (shape_options::skip_single_owner_rows).
+  std::size_t single_owner_rows = 0;
 };
 
 /// Options of shape_functions().
@@ -75,6 +77,11 @@ struct shape_options {
   /// its constant-field region from a distance table instead of searching it (piecewise.hpp). The
   /// weights are bitwise the same either way; false is for comparisons.
   bool reuse_constant_regions = true;
+  /// Sibson: write the row of a query whose new cell provably steals from its own node only (1 for that
+  /// node) without searching it. One budget search inward from the cells' frontiers finds them
+  /// (detail/shape/single_owner.hpp); it runs when the queries are at least 1/64 of the grid. The
+  /// weights are bitwise the same either way; false is for comparisons.
+  bool skip_single_owner_rows = true;
   /// Optional: filled with statistics of the call (see shape_stats).
   shape_stats* stats = nullptr;
   /// Optional progress callback, called on the calling thread with the fraction done in [0, 1]: between

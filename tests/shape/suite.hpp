@@ -526,3 +526,4 @@ TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: bad inputs and c
 
 #include "shape/piecewise_and_points.hpp"
 #include "shape/fast_path.hpp"
+#include "shape/single_owner.hpp"

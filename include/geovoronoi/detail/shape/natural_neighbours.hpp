@@ -9,12 +9,14 @@
 #include <geovoronoi/detail/shape/fused_padded.hpp>
 #include <geovoronoi/detail/shape/fused_query.hpp>
 #include <geovoronoi/detail/shape/scratch_pool.hpp>
+#include <geovoronoi/detail/shape/single_owner.hpp>
 #include <geovoronoi/detail/shape/translation_invariant.hpp>
 #include <geovoronoi/detail/dispatch.hpp>
 
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -445,6 +447,101 @@ std::size_t cells_bytes(const query_cells<T>& c) {
          c.owner.capacity() * sizeof(label_t) + (c.query.capacity() + c.offsets.capacity()) * sizeof(index_t);
 }
 
+template <class Policy, class P, class D, class Options>
+void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const Options& opt, bool laplace,
+                            const index_t* voxel_of, std::size_t rows, int k, std::size_t nodes, label_t* node,
+                            typename P::value_type* weight);
+
+/**
+ * Sibson: writes the row (1 for the query's node) of every query in @p queries whose new cell provably
+ * holds no voxel of another node, and removes it from @p queries; returns how many. A short search per
+ * query (single_owner_filter::may_share) decides most; the undecided ones run natural_neighbour_rows
+ * on the filter's restricted bounds, where a row of one node is the true row. Does nothing when the
+ * queries are fewer than 1/64 of the grid (the filter's budget search costs about one solve), when a
+ * row of one node would not be exactly 1 (raw = count * voxel volume must be a positive finite
+ * double), when the memory budget cannot hold the filter, or when an edge weighs less than 0.
+ */
+template <class Policy, class P, class D, class Options>
+std::size_t write_single_owner_rows(const Policy& policy, const P& p, const D& d, const Options& opt,
+                                    const index_t* voxel_of, int k, std::size_t nodes, label_t* node,
+                                    typename P::value_type* weight, std::vector<index_t>& queries) {
+  using T = typename P::value_type;
+  using filter_t = single_owner_filter<P>;
+  const double vv = p.geometry.voxel_volume();
+  const index_t n = p.geometry.size();
+  const std::size_t filter_bytes = std::size_t(n) * (sizeof(double) + 1) + filter_t::scratch_bytes(n);
+  if (!opt.skip_single_owner_rows || queries.empty() || queries.size() < std::size_t(n) / 64 || !std::isnormal(vv) ||
+      !std::isfinite(vv * double(n)) || filter_bytes > opt.memory_budget)
+    return 0;
+  std::size_t single_owner = 0;
+  auto own_row = [&](index_t r) {
+    node[std::size_t(r) * std::size_t(k)] = d.label[voxel_of[r]];
+    weight[std::size_t(r) * std::size_t(k)] = T(1);
+    ++single_owner;
+  };
+  std::vector<index_t> undecided;
+  D restricted;
+  {
+    const filter_t filter(p, d.distance.data(), d.label.data());
+    if (filter.negative_weight()) return 0;  // every query searched: the search reports the weight
+    // 1. a short search per query: most that share find a witness within a few dozen voxels
+    using verdict = typename filter_t::verdict;
+    std::vector<verdict> found(queries.size(), verdict::shares);
+    const std::size_t workers = (opt.memory_budget - filter.bytes()) / filter_t::scratch_bytes(n);
+    using scratch = typename filter_t::scratch;
+    scratch_pool<scratch> pool(workers, [&] { return std::make_unique<scratch>(n); });
+    constexpr std::size_t per_task = 256;
+    const std::size_t max_pops = single_owner_max_pops().load(std::memory_order_relaxed);
+    host_parallel_for(policy, index_t((queries.size() + per_task - 1) / per_task), [&](index_t t) {
+      auto s = pool.acquire();
+      const std::size_t b = std::size_t(t) * per_task, e = std::min(queries.size(), b + per_task);
+      for (std::size_t i = b; i < e; ++i) found[i] = filter.may_share(voxel_of[queries[i]], *s, max_pops);
+    });
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < queries.size(); ++i) {
+      if (found[i] == verdict::own_only)
+        own_row(queries[i]);
+      else if (found[i] == verdict::undecided)
+        undecided.push_back(queries[i]);
+      else
+        queries[kept++] = queries[i];
+    }
+    queries.resize(kept);
+    if (undecided.empty()) return single_owner;
+    restricted.label = d.label;
+    restricted.distance = d.distance;
+    filter.restricted_bounds(restricted.distance.data());
+    restricted.seeds = d.seeds;
+  }  // the filter's budgets are released before the searches below
+  // 2. the rest with the library's own search on the restricted bounds (it stays near the paths to the
+  // frontier); a row of one node there is the true row, any other query is searched again
+  std::vector<index_t> rvox(undecided.size());
+  for (std::size_t i = 0; i < undecided.size(); ++i) rvox[i] = voxel_of[undecided[i]];
+  // two slots whatever K is: a second node in a row is what tells a shared cell (with K = 1 a shared
+  // cell's row is also a single 1)
+  constexpr int rk = 2;
+  std::vector<label_t> rnode(undecided.size() * std::size_t(rk), no_label);
+  std::vector<T> rweight(rnode.size(), T(0));
+  Options ro = opt;
+  ro.skip_single_owner_rows = false;
+  ro.stats = nullptr;
+  // progress stays where it is (0) during this step; cancellation is still checked
+  ro.progress = [&opt](double) { return opt.progress ? opt.progress(0.0) : true; };
+  ro.max_nodes_per_voxel = rk;
+  natural_neighbour_rows(policy, p, restricted, ro, false, rvox.data(), rvox.size(), rk, nodes, rnode.data(),
+                         rweight.data());
+  for (std::size_t i = 0; i < undecided.size(); ++i) {
+    const std::size_t at = i * std::size_t(rk);
+    if (rnode[at] == d.label[rvox[i]] && rnode[at + 1] == no_label) {
+      own_row(undecided[i]);
+      single_owner_restricted_count().fetch_add(1, std::memory_order_relaxed);
+    } else {
+      queries.push_back(undecided[i]);
+    }
+  }
+  return single_owner;
+}
+
 /**
  * Sibson (laplace = false) or Laplace weights of the voxels voxel_of[0, rows), row r written to slots
  * [r * k, r * k + k) of @p node and @p weight (which start empty: -1 and 0). A voxel may appear in
@@ -468,6 +565,11 @@ void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const 
       weight[r * std::size_t(k)] = T(1);
     }
   }
+  // Sibson: the rows of queries whose new cell provably stays in their own node's cell, written
+  // without their search (single_owner.hpp); they leave `queries`
+  const std::size_t single_owner =
+      laplace ? 0 : write_single_owner_rows(policy, p, d, opt, voxel_of, k, nodes, node, weight, queries);
+  if (opt.stats) opt.stats->single_owner_rows = single_owner;
   // Rows of chosen points come in any order: run them in Morton (Z-curve) order of their voxels, so
   // that consecutive queries are near each other in all axes, their cells overlap and a search finds
   // much of its neighbourhood in the cache. Rows already in voxel order (the whole grid) keep it. Each
