@@ -90,7 +90,8 @@ inline std::shared_ptr<volume> make_case(const std::string& name) {
 }
 
 template <class Metric, class Policy>
-void run_case(benchmark::State& state, Policy policy, std::shared_ptr<volume> c, gv::shape_method m, bool reuse) {
+void run_case(benchmark::State& state, Policy policy, std::shared_ptr<volume> c, gv::shape_method m, bool reuse,
+              bool filter) {
   const auto p = gv::make_problem(c->g, c->field, Metric{}, gv::connectivity<26>{});
   const auto d = gv::voronoi(gv::seq, p, c->nodes);
   gv::index_t reached = 0;
@@ -98,6 +99,7 @@ void run_case(benchmark::State& state, Policy policy, std::shared_ptr<volume> c,
   gv::shape_options o;
   o.method = m;
   o.reuse_constant_regions = reuse;
+  o.skip_single_owner_rows = filter;
   gv::shape_stats stats;
   o.stats = &stats;
   for (auto _ : state) {
@@ -114,12 +116,14 @@ void run_case(benchmark::State& state, Policy policy, std::shared_ptr<volume> c,
   state.counters["peak_rss_MB"] = peak_rss_mb();
   state.counters["scratch_MB"] = double(stats.peak_scratch_bytes) / 1048576.0;
   state.counters["visits_per_query"] = stats.queries ? double(stats.voxels_visited) / double(stats.queries) : 0.0;
+  state.counters["single_owner_rows"] = double(stats.single_owner_rows);
 }
 
 /// Registers every case for one backend (@p with_uniform: also the constant-field cases; @p reuse:
-/// shape_options::reuse_constant_regions).
+/// shape_options::reuse_constant_regions; @p filter: shape_options::skip_single_owner_rows).
 template <class Policy>
-void register_cases(Policy policy, const std::string& backend, bool with_uniform = true, bool reuse = true) {
+void register_cases(Policy policy, const std::string& backend, bool with_uniform = true, bool reuse = true,
+                    bool filter = true) {
   const auto methods = {gv::shape_method::distance_ratio, gv::shape_method::sibson, gv::shape_method::laplace};
   // smoke mode (GEOVORONOI_BENCH_SMOKE, see bench/common.hpp): the small Table 1 case only; the steak's
   // Sibson alone takes minutes
@@ -130,12 +134,12 @@ void register_cases(Policy policy, const std::string& backend, bool with_uniform
       if (name == "128cube_100" && m != gv::shape_method::distance_ratio) continue;
       if (!with_uniform && (name == "table1" || name == "128cube_100")) continue;
       const std::string id = std::string("shape/") + method_name(m) + "/" + backend + "/" + name;
-      auto b = benchmark::RegisterBenchmark(id.c_str(), [policy, name, m, reuse](benchmark::State& st) {
+      auto b = benchmark::RegisterBenchmark(id.c_str(), [policy, name, m, reuse, filter](benchmark::State& st) {
         auto c = make_case(name);
         if (name == "table1" || name == "128cube_100")
-          run_case<gv::uniform>(st, policy, c, m, reuse);
+          run_case<gv::uniform>(st, policy, c, m, reuse, filter);
         else
-          run_case<gv::min_stiffness>(st, policy, c, m, reuse);
+          run_case<gv::min_stiffness>(st, policy, c, m, reuse, filter);
       });
       b->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
     }

@@ -9,6 +9,9 @@
 
 int main(int argc, char** argv) {
   gvbench_shape::register_cases(geovoronoi::thrust::par_on(thrust::omp::par), "thrust_omp");
+  // every query searched (shape_options::skip_single_owner_rows off): the before of that change
+  gvbench_shape::register_cases(geovoronoi::thrust::par_on(thrust::omp::par), "thrust_omp_nofilter", false, true,
+                                false);
   gvbench_shape::register_update_cases(geovoronoi::thrust::par_on(thrust::omp::par), "thrust_omp");
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
