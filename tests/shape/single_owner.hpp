@@ -18,7 +18,8 @@ struct single_owner_totals {
   std::size_t rows = 0, written = 0, cases = 0;
 };
 
-/// Sibson on @p p with the filter (short searches capped at each of 256, 1 and 0 pops) and without it,
+/// Sibson on @p p with the filter (short searches capped at 256 pops, and at 0: every reached query
+/// through the restricted search) and without it,
 /// compared bit for bit, on the whole grid and on a box of points (at least 1/64 of the grid: the
 /// filter runs for them too).
 template <class P>
@@ -45,7 +46,7 @@ void single_owner_case(std::mt19937_64& rng, const P& p, int seeds, const std::s
   REQUIRE(box.size() * 64 >= std::size_t(p.geometry.size()));
   const int k = o.max_nodes_per_voxel;
   o.skip_single_owner_rows = true;
-  for (const std::size_t pops : {std::size_t(256), std::size_t(1), std::size_t(0)}) {
+  for (const std::size_t pops : {std::size_t(256), std::size_t(0)}) {
     INFO(what << ", short searches of at most " << pops << " pops, K " << k);
     sh::single_owner_max_pops() = pops;
     gv::shape_stats st;
@@ -76,11 +77,11 @@ TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: Sibson rows of q
   std::mt19937_64 rng(20261203);
   single_owner_totals totals;
   const std::size_t restricted_before = sh::single_owner_restricted_count().load();
-  for (int trial = 0; trial < 3; ++trial) {
-    const bool ties = trial != 1;
+  for (int trial = 0; trial < 2; ++trial) {
+    const bool ties = trial == 0;  // exact ties everywhere (levels 1, 2, 4), then a continuous field
     {
       const gv::grid<3> g({10 + int(rng() % 6), 9 + int(rng() % 5), 6 + int(rng() % 4)},
-                          {1.0, trial == 2 ? 0.5 : 1.0, trial == 1 ? 1.5 : 1.0});
+                          {1.0, trial == 1 ? 0.5 : 1.0, trial == 1 ? 1.5 : 1.0});
       const auto f = random_field<float>(rng, g.size(), ties, trial == 0 ? 0.0 : 0.1, false);
       single_owner_case(rng, gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<26>{}), 2 + trial,
                         "min_stiffness 26", totals);

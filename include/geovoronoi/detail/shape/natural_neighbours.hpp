@@ -456,7 +456,9 @@ void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const 
  * Sibson: writes the row (1 for the query's node) of every query in @p queries whose new cell provably
  * holds no voxel of another node, and removes it from @p queries; returns how many. A short search per
  * query (single_owner_filter::may_share) decides most; the undecided ones run natural_neighbour_rows
- * on the filter's restricted bounds, where a row of one node is the true row. Does nothing when the
+ * on the filter's restricted bounds, where a row of one node is the true row. Every 16th query is
+ * decided first; when none of them needed a search and kept to its own cell, the others are only
+ * checked for U(q) = 0 (the filter would cost more than it saves). Does nothing when the
  * queries are fewer than 1/64 of the grid (the filter's budget search costs about one solve), when a
  * row of one node would not be exactly 1 (raw = count * voxel volume must be a positive finite
  * double), when the memory budget cannot hold the filter, or when an edge weighs less than 0.
@@ -479,66 +481,79 @@ std::size_t write_single_owner_rows(const Policy& policy, const P& p, const D& d
     weight[std::size_t(r) * std::size_t(k)] = T(1);
     ++single_owner;
   };
-  std::vector<index_t> undecided;
-  D restricted;
-  {
-    const filter_t filter(p, d.distance.data(), d.label.data());
-    if (filter.negative_weight()) return 0;  // every query searched: the search reports the weight
+  const filter_t filter(p, d.distance.data(), d.label.data());
+  if (filter.negative_weight()) return 0;  // every query searched: the search reports the weight
+  using verdict = typename filter_t::verdict;
+  std::vector<verdict> found(queries.size(), verdict::shares);
+  const std::size_t workers = (opt.memory_budget - filter.bytes()) / filter_t::scratch_bytes(n);
+  using scratch = typename filter_t::scratch;
+  scratch_pool<scratch> pool(workers, [&] { return std::make_unique<scratch>(n); });
+  constexpr std::size_t per_task = 256, stride = 16;
+  const std::size_t max_pops = single_owner_max_pops().load(std::memory_order_relaxed);
+  D restricted;  // built when first needed
+  // Decides the queries queries[i] for i in @p idx: own_only or shares in found[i].
+  auto decide = [&](const std::vector<std::size_t>& idx) {
     // 1. a short search per query: most that share find a witness within a few dozen voxels
-    using verdict = typename filter_t::verdict;
-    std::vector<verdict> found(queries.size(), verdict::shares);
-    const std::size_t workers = (opt.memory_budget - filter.bytes()) / filter_t::scratch_bytes(n);
-    using scratch = typename filter_t::scratch;
-    scratch_pool<scratch> pool(workers, [&] { return std::make_unique<scratch>(n); });
-    constexpr std::size_t per_task = 256;
-    const std::size_t max_pops = single_owner_max_pops().load(std::memory_order_relaxed);
-    host_parallel_for(policy, index_t((queries.size() + per_task - 1) / per_task), [&](index_t t) {
-      auto s = pool.acquire();
-      const std::size_t b = std::size_t(t) * per_task, e = std::min(queries.size(), b + per_task);
-      for (std::size_t i = b; i < e; ++i) found[i] = filter.may_share(voxel_of[queries[i]], *s, max_pops);
+    host_parallel_for(policy, index_t((idx.size() + per_task - 1) / per_task), [&](index_t t) {
+      auto sc = pool.acquire();
+      const std::size_t b = std::size_t(t) * per_task, e = std::min(idx.size(), b + per_task);
+      for (std::size_t j = b; j < e; ++j) found[idx[j]] = filter.may_share(voxel_of[queries[idx[j]]], *sc, max_pops);
     });
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < queries.size(); ++i) {
-      if (found[i] == verdict::own_only)
-        own_row(queries[i]);
-      else if (found[i] == verdict::undecided)
-        undecided.push_back(queries[i]);
-      else
-        queries[kept++] = queries[i];
+    // 2. the undecided ones with the library's own search on the restricted bounds (it stays near the
+    // paths to the frontier); a row of one node there is the true row
+    std::vector<std::size_t> undecided;
+    for (const std::size_t i : idx)
+      if (found[i] == verdict::undecided) undecided.push_back(i);
+    if (undecided.empty()) return;
+    if (restricted.seeds.empty()) {
+      restricted.label = d.label;
+      restricted.distance = d.distance;
+      filter.restricted_bounds(restricted.distance.data());
+      restricted.seeds = d.seeds;
     }
-    queries.resize(kept);
-    if (undecided.empty()) return single_owner;
-    restricted.label = d.label;
-    restricted.distance = d.distance;
-    filter.restricted_bounds(restricted.distance.data());
-    restricted.seeds = d.seeds;
-  }  // the filter's budgets are released before the searches below
-  // 2. the rest with the library's own search on the restricted bounds (it stays near the paths to the
-  // frontier); a row of one node there is the true row, any other query is searched again
-  std::vector<index_t> rvox(undecided.size());
-  for (std::size_t i = 0; i < undecided.size(); ++i) rvox[i] = voxel_of[undecided[i]];
-  // two slots whatever K is: a second node in a row is what tells a shared cell (with K = 1 a shared
-  // cell's row is also a single 1)
-  constexpr int rk = 2;
-  std::vector<label_t> rnode(undecided.size() * std::size_t(rk), no_label);
-  std::vector<T> rweight(rnode.size(), T(0));
-  Options ro = opt;
-  ro.skip_single_owner_rows = false;
-  ro.stats = nullptr;
-  // progress stays where it is (0) during this step; cancellation is still checked
-  ro.progress = [&opt](double) { return opt.progress ? opt.progress(0.0) : true; };
-  ro.max_nodes_per_voxel = rk;
-  natural_neighbour_rows(policy, p, restricted, ro, false, rvox.data(), rvox.size(), rk, nodes, rnode.data(),
-                         rweight.data());
-  for (std::size_t i = 0; i < undecided.size(); ++i) {
-    const std::size_t at = i * std::size_t(rk);
-    if (rnode[at] == d.label[rvox[i]] && rnode[at + 1] == no_label) {
-      own_row(undecided[i]);
-      single_owner_restricted_count().fetch_add(1, std::memory_order_relaxed);
-    } else {
-      queries.push_back(undecided[i]);
+    std::vector<index_t> rvox(undecided.size());
+    for (std::size_t j = 0; j < undecided.size(); ++j) rvox[j] = voxel_of[queries[undecided[j]]];
+    // two slots whatever K is: a second node in a row is what tells a shared cell (with K = 1 a shared
+    // cell's row is also a single 1)
+    constexpr int rk = 2;
+    std::vector<label_t> rnode(undecided.size() * std::size_t(rk), no_label);
+    std::vector<T> rweight(rnode.size(), T(0));
+    Options ro = opt;
+    ro.skip_single_owner_rows = false;
+    ro.stats = nullptr;
+    // progress stays where it is (0) during this step; cancellation is still checked
+    ro.progress = [&opt](double) { return opt.progress ? opt.progress(0.0) : true; };
+    ro.max_nodes_per_voxel = rk;
+    natural_neighbour_rows(policy, p, restricted, ro, false, rvox.data(), rvox.size(), rk, nodes, rnode.data(),
+                           rweight.data());
+    for (std::size_t j = 0; j < undecided.size(); ++j) {
+      const std::size_t at = j * std::size_t(rk);
+      const bool own = rnode[at] == d.label[rvox[j]] && rnode[at + 1] == no_label;
+      found[undecided[j]] = own ? verdict::own_only : verdict::shares;
+      if (own) single_owner_restricted_count().fetch_add(1, std::memory_order_relaxed);
     }
+  };
+  // every 16th query first; when none of those that the backward search reached keeps to its own cell
+  // (the beam: no query does), the other reached queries are searched as usual without being decided
+  std::vector<std::size_t> sample, rest;
+  for (std::size_t i = 0; i < queries.size(); ++i) (i % stride == 0 ? sample : rest).push_back(i);
+  decide(sample);
+  bool gains = false;
+  for (const std::size_t i : sample)
+    gains = gains || (found[i] == verdict::own_only && filter.reached(voxel_of[queries[i]]));
+  if (gains)
+    decide(rest);
+  else
+    for (const std::size_t i : rest)
+      if (!filter.reached(voxel_of[queries[i]])) found[i] = verdict::own_only;
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < queries.size(); ++i) {
+    if (found[i] == verdict::own_only)
+      own_row(queries[i]);
+    else
+      queries[kept++] = queries[i];
   }
+  queries.resize(kept);
   return single_owner;
 }
 

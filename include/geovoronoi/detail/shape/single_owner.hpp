@@ -158,6 +158,9 @@ class single_owner_filter {
   std::size_t bytes() const noexcept { return budget_.capacity() * (sizeof(double) + 1); }
   static std::size_t scratch_bytes(index_t n) noexcept { return std::size_t(n) * (sizeof(T) + 20); }
 
+  /// Whether the backward search reached @p q (U(q) > 0); if not, q's row is 1 for its node.
+  bool reached(index_t q) const noexcept { return budget_[std::size_t(q)] > 0; }
+
   /// What may_share() found.
   enum class verdict { own_only, shares, undecided };
 
@@ -167,7 +170,7 @@ class single_owner_filter {
    * search popped @p max_pops voxels without deciding.
    */
   verdict may_share(index_t q, scratch& s, std::size_t max_pops) const {
-    if (!(budget_[std::size_t(q)] > 0)) return verdict::own_only;
+    if (!reached(q)) return verdict::own_only;
     const label_t k = lab_[q];
     using item = std::pair<double, index_t>;
     auto later = [](const item& a, const item& b) { return a.first > b.first; };
