@@ -334,7 +334,10 @@ def section_thrust(r):
     if not backends:
         return ""
     out = []
+    all_threads = threads
     for be in backends:
+        # OMP_NUM_THREADS sets the OpenMP system's threads only (TBB takes every core): one column there
+        threads = all_threads if be == "thrust_omp" else all_threads[-1:]
         cases = ["/".join(c.split("/")[2:]) for c in r.cases(rf"^voronoi/{be}/[a-z]+/\d+/\d+/\d+$", exe)]
         cases.sort(key=lambda c: (HEADLINE.index(c) if c in HEADLINE else len(HEADLINE), c))
         head = ["case", "seq"]
