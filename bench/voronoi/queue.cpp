@@ -12,8 +12,8 @@
 namespace gv = geovoronoi;
 namespace {
 
-using kt = gv::detail::key_traits<float>;
-using item = gv::detail::radix_heap<float>::item;
+using kt = gv::detail::search::key_traits<float>;
+using item = gv::detail::search::radix_heap<float>::item;
 
 struct binary_heap {
   struct later {
@@ -56,9 +56,9 @@ void run_queue(benchmark::State& state) {
   const auto p = gv::make_problem(g, field, gv::min_stiffness{}, gv::connectivity<26>{});
   const auto seeds = gv::phantom::random_seeds(field, 10, 7);
   for (auto _ : state) {
-    std::vector<gv::detail::dijkstra::node<float>> work(std::size_t(g.size()));
+    std::vector<gv::detail::search::node<float>> work(std::size_t(g.size()));
     for (gv::index_t v = 0; v < g.size(); ++v) work[v].set_key(kt::unreached), work[v].field = field[v];
-    gv::detail::dijkstra::dense_keys<float> st{work.data()};
+    gv::detail::search::dense_keys<float> st{work.data()};
     Heap heap;
     std::vector<kt::key_type> shadow;
     if constexpr (std::is_same_v<Heap, ordered_set>) {
@@ -71,7 +71,7 @@ void run_queue(benchmark::State& state) {
       st.set(v, k);
       heap.push(k, v);
     }
-    const auto settled = gv::detail::dijkstra::run(p, st, heap, [](gv::index_t, float) { return true; });
+    const auto settled = gv::detail::search::run(p, st, heap, [](gv::index_t, float) { return true; });
     benchmark::DoNotOptimize(settled);
   }
   state.counters["voxels_per_second"] =
@@ -80,7 +80,7 @@ void run_queue(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK_TEMPLATE(run_queue, gv::detail::radix_heap<float>)
+BENCHMARK_TEMPLATE(run_queue, gv::detail::search::radix_heap<float>)
     ->Name("queue/radix_heap/gradient")->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_TEMPLATE(run_queue, binary_heap)
     ->Name("queue/binary_heap/gradient")->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();

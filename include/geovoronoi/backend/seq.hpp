@@ -10,7 +10,7 @@
 
 #include <geovoronoi/backend/seq/detail/insert.hpp>
 #include <geovoronoi/backend/seq/detail/solve.hpp>
-#include <geovoronoi/detail/dijkstra/sparse.hpp>
+#include <geovoronoi/detail/search/sparse.hpp>
 #include <geovoronoi/policy.hpp>
 #include <geovoronoi/result.hpp>
 
@@ -52,7 +52,7 @@ class seq_workspace {
   }
   /// The scratch for value type @p T (float or double).
   template <class T>
-  detail::dijkstra::sparse_scratch<T>& scratch() noexcept {
+  detail::search::sparse_scratch<T>& scratch() noexcept {
     static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>, "workspace: T must be float or double");
     if constexpr (std::is_same_v<T, float>)
       return f_;
@@ -61,8 +61,8 @@ class seq_workspace {
   }
 
  private:
-  detail::dijkstra::sparse_scratch<float> f_;
-  detail::dijkstra::sparse_scratch<double> d_;
+  detail::search::sparse_scratch<float> f_;
+  detail::search::sparse_scratch<double> d_;
 };
 
 /// Policy type of the sequential backend: `geovoronoi::seq`, or `geovoronoi::seq(ws)` to reuse a
@@ -78,7 +78,7 @@ struct seq_t {
   template <class T, class F>
   decltype(auto) with_scratch(F&& f) const {
     if (ws) return f(ws->scratch<T>());
-    detail::dijkstra::sparse_scratch<T> local;
+    detail::search::sparse_scratch<T> local;
     return f(local);
   }
 };

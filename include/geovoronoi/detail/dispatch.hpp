@@ -11,83 +11,14 @@
 //   radius:  not NaN, already in the distance type T (no conversion from double here);
 //   queries: voxels inside the grid and the domain; the diagram is on the problem's grid.
 
-#include <geovoronoi/detail/parents.hpp>
+#include <geovoronoi/detail/hooks.hpp>
+#include <geovoronoi/detail/search/parents.hpp>
 #include <geovoronoi/policy.hpp>
 #include <geovoronoi/result.hpp>
 
 #include <type_traits>
 #include <utility>
 #include <vector>
-
-namespace geovoronoi::detail::dispatch {
-
-template <class Policy, class P, class = void>
-struct has_solve : std::false_type {};
-template <class Policy, class P>
-struct has_solve<Policy, P,
-                 std::void_t<decltype(backend_solve(std::declval<const Policy&>(), std::declval<const P&>(),
-                                                    std::declval<const std::vector<source<typename P::value_type>>&>(),
-                                                    std::declval<typename P::value_type>()))>> : std::true_type {};
-template <class Policy, class P, class = void>
-struct has_bounded : std::false_type {};
-template <class Policy, class P>
-struct has_bounded<Policy, P,
-                   std::void_t<decltype(backend_bounded(std::declval<const Policy&>(), std::declval<const P&>(),
-                                                        std::declval<const std::vector<source<typename P::value_type>>&>(),
-                                                        std::declval<typename P::value_type>()))>> : std::true_type {};
-/// Whether the backend's solve hooks also take a solve_control (progress, threads).
-template <class Policy, class P, class = void>
-struct has_solve_control : std::false_type {};
-template <class Policy, class P>
-struct has_solve_control<
-    Policy, P,
-    std::void_t<decltype(backend_solve(std::declval<const Policy&>(), std::declval<const P&>(),
-                                       std::declval<const std::vector<source<typename P::value_type>>&>(),
-                                       std::declval<typename P::value_type>(), std::declval<const solve_control&>()))>>
-    : std::true_type {};
-template <class Policy, class P, class = void>
-struct has_bounded_control : std::false_type {};
-template <class Policy, class P>
-struct has_bounded_control<
-    Policy, P,
-    std::void_t<decltype(backend_bounded(std::declval<const Policy&>(), std::declval<const P&>(),
-                                         std::declval<const std::vector<source<typename P::value_type>>&>(),
-                                         std::declval<typename P::value_type>(), std::declval<const solve_control&>()))>>
-    : std::true_type {};
-template <class Policy, class P, class = void>
-struct has_insert : std::false_type {};
-template <class Policy, class P>
-struct has_insert<Policy, P,
-                  std::void_t<decltype(backend_insert_queries(
-                      std::declval<const Policy&>(), std::declval<const P&>(),
-                      std::declval<const diagram<typename P::value_type, P::dim>&>(),
-                      std::declval<const std::vector<index_t>&>()))>> : std::true_type {};
-
-template <class Policy, class = void>
-struct has_with_threads : std::false_type {};
-template <class Policy>
-struct has_with_threads<Policy, std::void_t<decltype(backend_with_threads(std::declval<const Policy&>(), 0u,
-                                                                          std::declval<int (*)()>()))>>
-    : std::true_type {};
-
-}  // namespace geovoronoi::detail::dispatch
-
-namespace geovoronoi::detail {
-/**
- * Runs f() with @p threads host threads for @p policy's backend: through the backend's hook
- * backend_with_threads(policy, threads, f) (found by ADL; Thrust on OpenMP or TBB), else f() as it
- * is (seq, CUDA: nothing to set). 0 keeps the system's default.
- */
-template <class Policy, class F>
-decltype(auto) with_threads(const Policy& policy, unsigned threads, F&& f) {
-  if constexpr (dispatch::has_with_threads<Policy>::value) {
-    if (threads != 0) return backend_with_threads(policy, threads, std::forward<F>(f));
-  }
-  (void)policy;
-  (void)threads;
-  return f();
-}
-}  // namespace geovoronoi::detail
 
 namespace geovoronoi::detail::dispatch {
 
@@ -99,11 +30,11 @@ diagram<typename P::value_type, P::dim> solve(const Policy& policy, const P& p,
                                               typename P::value_type radius, bool with_parent,
                                               const solve_control& ctl = {}) {
   if constexpr (is_backend_policy_v<Policy>) {  // else the entry point's static_assert has spoken
-    static_assert(has_solve<Policy, P>::value,
+    static_assert(hooks::has_solve<Policy, P>::value,
                   "geovoronoi: this backend provides no dense solve (backend_solve) for this problem");
-    if constexpr (has_solve<Policy, P>::value) {
+    if constexpr (hooks::has_solve<Policy, P>::value) {
       auto d = [&] {
-        if constexpr (has_solve_control<Policy, P>::value) {
+        if constexpr (hooks::has_solve_control<Policy, P>::value) {
           return backend_solve(policy, p, sources, radius, ctl);
         } else {  // a backend that cannot report: the start and the end only
           ctl.report(0.0);
@@ -114,7 +45,7 @@ diagram<typename P::value_type, P::dim> solve(const Policy& policy, const P& p,
       }();
       d.seeds.reserve(sources.size());
       for (const auto& x : sources) d.seeds.push_back(x.voxel);
-      if (with_parent) compute_parents(p, d, sources);
+      if (with_parent) search::compute_parents(p, d, sources);
       return d;
     }
   }
@@ -127,11 +58,11 @@ sparse_solution<typename P::value_type> bounded(const Policy& policy, const P& p
                                                 const std::vector<source<typename P::value_type>>& sources,
                                                 typename P::value_type radius, const solve_control& ctl = {}) {
   if constexpr (is_backend_policy_v<Policy>) {
-    static_assert(has_bounded<Policy, P>::value,
+    static_assert(hooks::has_bounded<Policy, P>::value,
                   "geovoronoi: this backend provides no bounded solve (backend_bounded) for this problem");
-    if constexpr (has_bounded_control<Policy, P>::value) {
+    if constexpr (hooks::has_bounded_control<Policy, P>::value) {
       return backend_bounded(policy, p, sources, radius, ctl);
-    } else if constexpr (has_bounded<Policy, P>::value) {
+    } else if constexpr (hooks::has_bounded<Policy, P>::value) {
       ctl.report(0.0);
       auto r = backend_bounded(policy, p, sources, radius);
       ctl.report(1.0);
@@ -147,9 +78,9 @@ query_cells<typename P::value_type> insert_queries(const Policy& policy, const P
                                                    const diagram<typename P::value_type, P::dim>& d,
                                                    const std::vector<index_t>& queries) {
   if constexpr (is_backend_policy_v<Policy>) {
-    static_assert(has_insert<Policy, P>::value,
+    static_assert(hooks::has_insert<Policy, P>::value,
                   "geovoronoi: this backend provides no insert-query (backend_insert_queries) for this problem");
-    if constexpr (has_insert<Policy, P>::value) return backend_insert_queries(policy, p, d, queries);
+    if constexpr (hooks::has_insert<Policy, P>::value) return backend_insert_queries(policy, p, d, queries);
   }
   return {};
 }

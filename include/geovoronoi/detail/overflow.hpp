@@ -12,7 +12,8 @@
 // +inf. Every backend evaluates that edge (the neighbour is expanded with its final key while u is
 // still unreached), so every backend raises the flag in that case, and the scan names the same voxel.
 
-#include <geovoronoi/detail/stencil_walk.hpp>
+#include <geovoronoi/detail/search/relax.hpp>
+#include <geovoronoi/detail/search/stencil_walk.hpp>
 #include <geovoronoi/error.hpp>
 #include <geovoronoi/metric.hpp>
 
@@ -70,7 +71,7 @@ overflow_error overflow_error_at(const grid<Dim>& g, const overflow_site<T>& s) 
 template <class P, class EachReached, class Reached>
 void throw_if_overflowed(const P& p, EachReached&& each_reached, Reached&& reached) {
   using T = typename P::value_type;
-  const stencil_walker<P::dim> walk(p);
+  const search::stencil_walker<P::dim> walk(p);
   overflow_site<T> best;
   each_reached([&](index_t v, T dv) {
     const T fv = p.field[v];
@@ -78,8 +79,8 @@ void throw_if_overflowed(const P& p, EachReached&& each_reached, Reached&& reach
       if (best.voxel != no_index && (u > best.voxel || (u == best.voxel && v > best.from))) return;
       const T fu = p.field[u];
       if (!inside<typename P::metric_type>(fu) || reached(u)) return;
-      const T w = p.metric(p.edges.length[k], fv, fu);
-      const T nd = dv + w;
+      const T w = search::edge_weight(p.metric, p.edges.length[k], fv, fu);
+      const T nd = search::extend(dv, w);
       if (nd <= std::numeric_limits<T>::max()) return;
       best = {u, v, dv, w};
     });

@@ -1,8 +1,13 @@
 #pragma once
 // Pieces shared by the three shape-function methods: argument checks, the per-voxel top-K selection
-// and normalisation, the face (6-neighbour) table, progress reporting.
+// and normalisation, progress reporting. What a new cell counts (volumes per owner, facet faces) and
+// the face table are the searches' (search/cell_counts.hpp).
 
 #include <geovoronoi/config.hpp>
+#include <geovoronoi/detail/search/cell_counts.hpp>
+#include <geovoronoi/detail/search/relax.hpp>
+#include <geovoronoi/detail/search/stencil_walk.hpp>
+#include <geovoronoi/detail/search/voxel_bits.hpp>
 #include <geovoronoi/error.hpp>
 #include <geovoronoi/result.hpp>
 
@@ -17,6 +22,17 @@
 #include <vector>
 
 namespace geovoronoi::detail::shape {
+
+// the search core's vocabulary, which every method uses
+using search::accumulators;
+using search::edge_weight;
+using search::extend;
+using search::face;
+using search::face_in_grid;
+using search::faces_of;
+using search::relax;
+using search::stencil_walker;
+using search::voxel_bits;
 
 /// A node and its raw (unnormalised, > 0) weight at one voxel.
 struct candidate {
@@ -54,73 +70,9 @@ void store(std::vector<candidate>& c, int k, label_t* node, T* weight) {
     }
 }
 
-/// Per-node accumulators of one query, cleared in O(touched).
-struct accumulators {
-  std::vector<std::int64_t> volume;                  // stolen voxels per node
-  std::vector<std::array<std::int64_t, 3>> faces;    // facet faces per node and axis
-  std::vector<double> h;                             // min path length through the facet (as double of T)
-  std::vector<char> seen;
-  std::vector<label_t> touched;
-  explicit accumulators(std::size_t nodes)
-      : volume(nodes, 0), faces(nodes, {0, 0, 0}), h(nodes, 0), seen(nodes, 0) {}
-  void touch(label_t k) {
-    if (!seen[k]) seen[k] = 1, touched.push_back(k), h[k] = std::numeric_limits<double>::infinity();
-  }
-  void clear() {
-    for (label_t k : touched) volume[k] = 0, faces[k] = {0, 0, 0}, seen[k] = 0;
-    touched.clear();
-  }
-};
-
 /// Calls the progress callback (if any) and throws geovoronoi::cancelled when it asks to stop.
 inline void report(const std::function<bool(double)>& progress, double fraction) {
   if (progress && !progress(std::min(1.0, std::max(0.0, fraction)))) throw cancelled();
-}
-
-/// The 2*Dim face neighbours of a grid: axis, direction, linear delta, the stencil entry with the same
-/// offset (its length is the edge length every backend uses) and the face area.
-template <int Dim>
-struct face {
-  int axis;
-  int dir;
-  index_t delta;
-  int edge;
-  double area;
-};
-
-template <class P>
-std::vector<face<P::dim>> faces_of(const P& p) {
-  constexpr int Dim = P::dim;
-  std::vector<face<Dim>> out;
-  index_t stride = 1;
-  for (int a = 0; a < Dim; ++a) {
-    double area = 1;
-    for (int b = 0; b < Dim; ++b)
-      if (b != a) area *= p.geometry.spacing(b);
-    for (int dir = -1; dir <= 1; dir += 2) {
-      int edge = -1;
-      for (int n = 0; n < P::neighbours; ++n) {
-        bool match = true;
-        for (int b = 0; b < 3; ++b) match = match && p.edges.offset[n][b] == (b == a ? dir : 0);
-        if (match) edge = n;
-      }
-      if (edge < 0) throw std::logic_error("geovoronoi::shape_functions: the connectivity lacks a face neighbour");
-      out.push_back({a, dir, dir * stride, edge, area});
-    }
-    stride *= p.geometry.extent(a);
-  }
-  return out;
-}
-
-/// Whether the neighbour of voxel @p v (coordinates @p c) across face @p f lies inside the grid and
-/// the edge to it is not cut: a cut face joins no two cells (no path crosses it), so it is neither a
-/// Laplace facet nor a Distance Ratio frontier.
-template <class P, class C>
-bool face_in_grid(const P& p, index_t v, const C& c, const face<P::dim>& f) noexcept {
-  const index_t x = c[f.axis] + f.dir;
-  if (!(x >= 0 && x < p.geometry.extent(f.axis))) return false;
-  if constexpr (P::has_cuts) return !((p.cut_mask(v) >> f.edge) & 1u);
-  return true;
 }
 
 template <class P, class D, class Options>
@@ -130,6 +82,9 @@ void validate(const P& p, const D& d, const Options& opt) {
     throw std::invalid_argument(who + "max_nodes_per_voxel (K) is " + std::to_string(opt.max_nodes_per_voxel) +
                                 "; it must be between 1 and " + std::to_string(max_nodes_per_voxel_limit));
   if (opt.batch_size == 0) throw std::invalid_argument(who + "batch_size is 0; it must be >= 1");
+  if (opt.tuning.lanes != 0 && opt.tuning.lanes != 16 && opt.tuning.lanes != 32)
+    throw std::invalid_argument(who + "tuning.lanes is " + std::to_string(opt.tuning.lanes) +
+                                "; it must be 0 (the library's choice), 16 or 32");
   if (d.seeds.empty()) throw std::invalid_argument(who + "the diagram has no seeds, so there are no nodes");
   if (!(d.geometry() == p.geometry) || d.distance.size() != p.geometry.size() ||
       d.label.size() != p.geometry.size())

@@ -3,7 +3,7 @@
 // the node's own distance over its support and the distance to its cell's frontier.
 
 #include <geovoronoi/detail/shape/common.hpp>
-#include <geovoronoi/detail/shape/host_parallel.hpp>
+#include <geovoronoi/detail/parallel.hpp>
 #include <geovoronoi/detail/shape/translation_invariant.hpp>
 #include <geovoronoi/detail/dispatch.hpp>
 

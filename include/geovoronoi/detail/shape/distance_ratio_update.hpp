@@ -7,10 +7,11 @@
 
 #include <geovoronoi/detail/shape/common.hpp>
 #include <geovoronoi/detail/shape/distance_ratio.hpp>
-#include <geovoronoi/detail/shape/host_parallel.hpp>
+#include <geovoronoi/detail/parallel.hpp>
 #include <geovoronoi/detail/shape/translation_invariant.hpp>
-#include <geovoronoi/detail/stencil_walk.hpp>
-#include <geovoronoi/update.hpp>
+#include <geovoronoi/detail/search/stencil_walk.hpp>
+#include <geovoronoi/change.hpp>
+#include <geovoronoi/detail/update/node_list.hpp>
 
 #include <algorithm>
 #include <cstddef>
@@ -88,12 +89,12 @@ class dense_distances {
  */
 template <class P, class W, class Dist, class SrcAt>
 void repair_distances(const P& after, const W& whole, const stencil_walker<P::dim>& walk, Dist& D,
-                      typename P::value_type radius, const update::voxel_bits& xf, const std::vector<index_t>& seeds,
+                      typename P::value_type radius, const voxel_bits& xf, const std::vector<index_t>& seeds,
                       SrcAt&& src, std::vector<index_t>& touched, std::vector<typename P::value_type>& old_value) {
   using T = typename P::value_type;
   const T inf = std::numeric_limits<T>::infinity();
   const T* field = after.field;
-  update::voxel_bits in_r(after.geometry.size());
+  voxel_bits in_r(after.geometry.size());
   touched.clear();
   old_value.clear();
   for (const index_t v : seeds)
@@ -115,7 +116,7 @@ void repair_distances(const P& after, const W& whole, const stencil_walker<P::di
         if (in_r.test(v)) return;
         const T dv = D(v);
         if (!(dv < inf)) return;
-        const T sum = du + after.metric(after.edges.length[k], fu, field[v]);
+        const T sum = extend(du, edge_weight(after.metric, after.edges.length[k], fu, field[v]));
         if (sum == dv && in_r.insert(v)) touched.push_back(v);
       });
     }
@@ -135,7 +136,7 @@ void repair_distances(const P& after, const W& whole, const stencil_walker<P::di
       if (in_r.test(u)) return;
       const T du = D(u);
       if (!(du < inf)) return;
-      const T nd = du + after.metric(after.edges.length[k], field[u], fv);
+      const T nd = extend(du, edge_weight(after.metric, after.edges.length[k], field[u], fv));
       if (nd < best) best = nd;
     });
     if (best < radius) {
@@ -154,9 +155,7 @@ void repair_distances(const P& after, const W& whole, const stencil_walker<P::di
     walk.for_each_neighbour(after, v, [&](int k, index_t u) {
       const T fu = field[u];
       if (!detail::inside<typename P::metric_type>(fu)) return;
-      const T w = after.metric(after.edges.length[k], fv, fu);
-      if (!(w >= T(0))) dijkstra::bad_weight(double(w));
-      const T nd = dv + w;
+      const T nd = relax(after.metric, after.edges.length[k], dv, fv, fu);
       if (!(nd < radius)) return;
       const T du = D(u);
       if (!(nd < du)) return;
@@ -259,7 +258,7 @@ T frontier_source_at(const P& p, const std::vector<face<P::dim>>& faces, const T
 template <class Policy, class P, class D, class Stats>
 std::shared_ptr<const distance_ratio_state<typename P::value_type>> distance_ratio_update(
     const Policy& policy, const P& after, const D& before, const D& d_after, const std::vector<index_t>& xs,
-    const update::voxel_bits& xf, const std::vector<index_t>& xes,
+    const voxel_bits& xf, const std::vector<index_t>& xes,
     const distance_ratio_state<typename P::value_type>& old, int k,
     std::vector<label_t>& node, std::vector<typename P::value_type>& weight, Stats& stats) {
   using T = typename P::value_type;

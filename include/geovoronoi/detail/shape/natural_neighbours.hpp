@@ -3,15 +3,19 @@
 // Per query the scratch is bounded by its cell and the number of nodes: the cell itself (returned by
 // the backend, sorted by voxel) and per-node accumulators reset through a touched list.
 
+#include <geovoronoi/detail/dispatch.hpp>
+#include <geovoronoi/detail/hooks.hpp>
+#include <geovoronoi/detail/parallel.hpp>
+#include <geovoronoi/detail/search/fused_lanes.hpp>
+#include <geovoronoi/detail/search/fused_padded.hpp>
+#include <geovoronoi/detail/search/fused_query.hpp>
+#include <geovoronoi/detail/search/padded_grid.hpp>
+#include <geovoronoi/detail/search/radix_heap.hpp>
+#include <geovoronoi/detail/search/scratch_pool.hpp>
 #include <geovoronoi/detail/shape/common.hpp>
-#include <geovoronoi/detail/shape/host_parallel.hpp>
-#include <geovoronoi/detail/shape/fused_lanes.hpp>
-#include <geovoronoi/detail/shape/fused_padded.hpp>
-#include <geovoronoi/detail/shape/fused_query.hpp>
-#include <geovoronoi/detail/shape/scratch_pool.hpp>
+#include <geovoronoi/detail/shape/piecewise.hpp>
 #include <geovoronoi/detail/shape/single_owner.hpp>
 #include <geovoronoi/detail/shape/translation_invariant.hpp>
-#include <geovoronoi/detail/dispatch.hpp>
 
 #include <algorithm>
 #include <array>
@@ -27,6 +31,9 @@
 #include <vector>
 
 namespace geovoronoi::detail::shape {
+
+using search::padded_grid;
+using search::scratch_pool;
 
 /// Whether voxel w is in the cell whose sorted voxels are cell[0, size), knowing cell[j] = w - delta.
 /// Entries are distinct and sorted, so at most |delta| - 1 of them lie strictly between the two.
@@ -99,24 +106,8 @@ bool accumulate_cell(const P& p, const D& d, const std::vector<face<P::dim>>& fa
   const T* dist = d.distance.data();
   const label_t* lab = d.label.data();
   for (std::size_t j = 0; j < size; ++j) {
-    const index_t v = cell[j];
-    const auto c = p.geometry.coords(v);
-    const T fv = p.field[v];
-    for (const auto& f : faces) {
-      if (!face_in_grid(p, v, c, f)) continue;
-      const index_t w = v + f.delta;
-      if (!p.inside(w)) continue;
-      const label_t k = lab[w];
-      if (k == no_label) continue;
-      if (in_sorted_cell(cell, size, j, f.delta, w)) continue;
-      acc.touch(k);
-      ++acc.faces[k][f.axis];
-      any_facet = true;
-      const T cvw = p.metric(p.edges.length[f.edge], fv, p.field[w]);
-      T h = dq[j] + cvw;
-      h = h + dist[w];
-      if (double(h) < acc.h[k]) acc.h[k] = double(h);
-    }
+    auto in_cell = [&](index_t w, const face<P::dim>& f) { return in_sorted_cell(cell, size, j, f.delta, w); };
+    if (search::add_facets(p, cell[j], dq[j], faces, lab, dist, in_cell, acc)) any_facet = true;
   }
   return any_facet;
 }
@@ -151,9 +142,9 @@ struct query_scratch {
 /// balance cells of very different sizes.
 inline constexpr std::size_t queries_per_task = 64;
 
-/// One worker of the fused query loop: its search scratch (fused_query, or fused_query_padded on the
-/// fast path) and its accumulators.
-template <class P, class Search = fused_query<P>>
+/// One worker of the fused query loop: its search scratch (search::fused_query, or
+/// search::fused_query_padded on the fast path) and its accumulators.
+template <class P, class Search>
 struct fused_worker {
   Search search;
   query_scratch<typename P::value_type> s;
@@ -183,17 +174,18 @@ struct fused_worker {
 /// A worker of the lane search (fused_lanes.hpp, L lanes): consecutive queries share a search.
 template <class P, int L>
 struct fused_lanes_worker {
+  using search_type = search::fused_lanes_padded<P, L, piecewise_tables<P>>;
   static constexpr int lanes = L;
   /// Queries per task: four searches, the first of which is the progress estimate's sample (a sample
   /// of one query would run a search of one lane, about three times the cost per query). Small tasks
   /// keep the end of the loop short: the thread that finishes first waits for at most the other's
   /// last task (docs/shape-functions.md).
   static constexpr std::size_t queries_per_task = 4 * lanes;
-  fused_lanes_padded<P, L> search;
+  search_type search;
   std::vector<query_scratch<typename P::value_type>> s;  // one per lane
   std::size_t peak = 0;
-  fused_lanes_worker(std::size_t nodes, const P& p, const padded_grid<P>& g, const piecewise_tables<P>* pw)
-      : search(p, g, pw), s(std::size_t(lanes), query_scratch<typename P::value_type>(nodes)) {}
+  fused_lanes_worker(std::size_t nodes, const P& p, const padded_grid<P>& g, const piecewise_tables<P>* pw, bool avx512)
+      : search(p, g, pw, avx512), s(std::size_t(lanes), query_scratch<typename P::value_type>(nodes)) {}
   std::size_t bytes() const noexcept {
     return search.bytes() + lanes * s[0].accumulator_bytes();
   }
@@ -221,6 +213,12 @@ struct fused_lanes_worker {
 };
 #endif
 
+/// The one-query searches, with the exact balls of constant regions.
+template <class P>
+using grid_search = search::fused_query<P, piecewise_tables<P>>;
+template <class P>
+using padded_search = search::fused_query_padded<P, piecewise_tables<P>>;
+
 /// Bytes one fused worker is budgeted: its key array, room for a cell list of the whole grid and a
 /// queue of half the grid (cells stay far below that on real problems), the per-node accumulators.
 /// On the padded fast path (fused_padded.hpp) the shared (bound, label) table is counted here too, so
@@ -230,9 +228,9 @@ std::size_t fused_worker_budget(const P& p, std::size_t nodes) {
   using T = typename P::value_type;
   const std::size_t n = std::size_t(p.geometry.size());
   if (padded_grid<P>::applies(p))
-    return fused_query_padded<P>::dense_bytes(p) + padded_grid<P>::shared_bytes(p) + n * sizeof(std::uint32_t) +
-           n / 2 * fused_query_padded<P>::heap_item_bytes() + nodes * 64 + 65536;
-  return fused_query<P>::dense_bytes(p) + n * sizeof(index_t) + n / 2 * sizeof(typename radix_heap<T>::item) +
+    return padded_search<P>::dense_bytes(p) + padded_grid<P>::shared_bytes(p) + n * sizeof(std::uint32_t) +
+           n / 2 * padded_search<P>::heap_item_bytes() + nodes * 64 + 65536;
+  return grid_search<P>::dense_bytes(p) + n * sizeof(index_t) + n / 2 * sizeof(typename search::radix_heap<T>::item) +
          nodes * 64 + 65536;
 }
 
@@ -242,7 +240,7 @@ std::size_t fused_worker_budget(const P& p, std::size_t nodes) {
 /// lanes and its per-owner rows (volume counts, the AVX-512 facet pass's vectors).
 template <int L, class P>
 std::size_t fused_lanes_worker_bytes(const P& p, std::size_t nodes) {
-  using S = fused_lanes_padded<P, L>;
+  using S = typename fused_lanes_worker<P, L>::search_type;
   const std::size_t n = std::size_t(p.geometry.size());
   return S::dense_bytes(p) + 2 * n * sizeof(std::uint32_t) + n / 2 * S::heap_item_bytes() +
          std::size_t(L) * (nodes * 64 + 4096) + nodes * S::per_node_bytes() + 65536;
@@ -252,7 +250,7 @@ std::size_t fused_lanes_worker_bytes(const P& p, std::size_t nodes) {
 /// given the memory budget (queries then go in Morton order, so that a search's lanes are neighbours).
 template <class Policy, class P>
 bool uses_fused_lanes(const P& p, std::size_t nodes, std::size_t budget) {
-  if constexpr (queries_on_host<Policy>::value && fused_lanes_apply<P>::value) {
+  if constexpr (hooks::queries_on_host<Policy>::value && search::fused_lanes_apply<P>::value) {
     // (the lanes count cell volumes in 32 bits: grids below 2^31 voxels)
     return padded_grid<P>::applies(p) && p.geometry.size() < (index_t(1) << 31) && !translation_invariant(p) &&
            budget >= fused_lanes_worker_bytes<16>(p, nodes) + padded_grid<P>::shared_bytes(p);
@@ -329,7 +327,7 @@ void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, co
   // 2. the rest, in one loop over the groups (consecutive queries are neighbours: their searches share
   // the cache). The calling thread reports progress, and so checks for cancellation, after a task of its
   // own once the groups done since its last report hold a batch of queries, so no thread waits for the
-  // other's last task at a report (a barrier per batch costs 4-5 % of the steak's Sibson on two threads).
+  // other's last task at a report (a barrier per batch would idle every thread but the last at each one).
   // A cancellation thrown there skips the tasks not yet started (host_parallel_for).
   const std::size_t groups_per_batch = std::max<std::size_t>(1, opt.batch_size / group);
   const std::thread::id caller = std::this_thread::get_id();
@@ -394,24 +392,25 @@ void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, cons
     // the fast path: the shared table is part of per_worker (fused_worker_budget), counted once here
     const padded_grid<P> g(p, dist, lab);
 #ifdef GEOVORONOI_FUSED_LANES
-    if constexpr (fused_lanes_apply<P>::value) {
+    if constexpr (search::fused_lanes_apply<P>::value) {
       // several queries per search (fused_lanes.hpp) where the budget holds one such worker: 32 where it
       // holds as many workers of 32 lanes as the threads would use of 16 (a worker of 32 lanes holds
-      // 128 bytes of keys per voxel, of 16 lanes 64; 32 lanes are 1.1-1.2x faster on the steak, but one
-      // worker where two threads could each run one is about 2x slower), else 16
+      // 128 bytes of keys per voxel, of 16 lanes 64; 32 lanes cost less per query, but one worker where
+      // two threads could each run one costs about twice the time), else 16
       const std::size_t fixed = (pw ? pw->bytes() : 0) + g.bytes();
       const std::size_t each16 = fused_lanes_worker_bytes<16>(p, nodes), each32 = fused_lanes_worker_bytes<32>(p, nodes);
       if (lanes && opt.memory_budget >= fixed + each16) {
         const std::size_t room = opt.memory_budget - fixed;
         std::size_t threads = 1;
-        if constexpr (has_host_parallel_for<Policy>::value) threads = std::max(1u, std::thread::hardware_concurrency());
-        const int forced = lanes_width_switch().load(std::memory_order_relaxed);
+        if constexpr (hooks::has_host_parallel_for<Policy>::value)
+          threads = std::max(1u, std::thread::hardware_concurrency());
+        const int forced = opt.tuning.lanes;
         const bool wide = forced ? forced == 32 && room >= each32 : room / each32 >= std::min(room / each16, threads);
         auto run = [&](auto width) {
           constexpr int L = decltype(width)::value;
           const std::size_t each = L == 32 ? each32 : each16;
           scratch_pool<fused_lanes_worker<P, L>> pool(room / each, [&] {
-            return std::make_unique<fused_lanes_worker<P, L>>(nodes, p, g, pw.get());
+            return std::make_unique<fused_lanes_worker<P, L>>(nodes, p, g, pw.get(), opt.tuning.avx512);
           });
           fused_query_loop(policy, opt, laplace, faces, queries, voxel_of, write, pool, fixed,
                            fused_lanes_worker<P, L>::queries_per_task, L);
@@ -427,14 +426,14 @@ void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, cons
     const std::size_t shared = (pw ? pw->bytes() : 0) + g.bytes();
     const std::size_t room = opt.memory_budget - (pw ? pw->bytes() : 0);
     const std::size_t each = per_worker - padded_grid<P>::shared_bytes(p);
-    scratch_pool<fused_worker<P, fused_query_padded<P>>> pool((room - std::min(room, g.bytes())) / each, [&] {
-      return std::make_unique<fused_worker<P, fused_query_padded<P>>>(nodes, p, g, pw.get());
+    scratch_pool<fused_worker<P, padded_search<P>>> pool((room - std::min(room, g.bytes())) / each, [&] {
+      return std::make_unique<fused_worker<P, padded_search<P>>>(nodes, p, g, pw.get());
     });
     fused_query_loop(policy, opt, laplace, faces, queries, voxel_of, write, pool, shared, queries_per_task, 1);
   } else {
     const std::size_t shared = pw ? pw->bytes() : 0;
-    scratch_pool<fused_worker<P>> pool((opt.memory_budget - shared) / per_worker, [&] {
-      return std::make_unique<fused_worker<P>>(nodes, p, dist, lab, pw.get());
+    scratch_pool<fused_worker<P, grid_search<P>>> pool((opt.memory_budget - shared) / per_worker, [&] {
+      return std::make_unique<fused_worker<P, grid_search<P>>>(nodes, p, dist, lab, pw.get());
     });
     fused_query_loop(policy, opt, laplace, faces, queries, voxel_of, write, pool, shared, queries_per_task, 1);
   }
@@ -466,7 +465,8 @@ void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const 
 template <class Policy, class P, class D, class Options>
 std::size_t write_single_owner_rows(const Policy& policy, const P& p, const D& d, const Options& opt,
                                     const index_t* voxel_of, int k, std::size_t nodes, label_t* node,
-                                    typename P::value_type* weight, std::vector<index_t>& queries) {
+                                    typename P::value_type* weight, std::vector<index_t>& queries,
+                                    std::size_t& restricted_rows) {
   using T = typename P::value_type;
   using filter_t = single_owner_filter<P>;
   const double vv = p.geometry.voxel_volume();
@@ -489,7 +489,7 @@ std::size_t write_single_owner_rows(const Policy& policy, const P& p, const D& d
   using scratch = typename filter_t::scratch;
   scratch_pool<scratch> pool(workers, [&] { return std::make_unique<scratch>(n); });
   constexpr std::size_t per_task = 256, stride = 16;
-  const std::size_t max_pops = single_owner_max_pops().load(std::memory_order_relaxed);
+  const std::size_t max_pops = opt.tuning.single_owner_pops;
   D restricted;  // built when first needed
   // Decides the queries queries[i] for i in @p idx: own_only or shares in found[i].
   auto decide = [&](const std::vector<std::size_t>& idx) {
@@ -530,7 +530,7 @@ std::size_t write_single_owner_rows(const Policy& policy, const P& p, const D& d
       const std::size_t at = j * std::size_t(rk);
       const bool own = rnode[at] == d.label[rvox[j]] && rnode[at + 1] == no_label;
       found[undecided[j]] = own ? verdict::own_only : verdict::shares;
-      if (own) single_owner_restricted_count().fetch_add(1, std::memory_order_relaxed);
+      if (own) ++restricted_rows;
     }
   };
   // every 16th query first; when none of those that the backward search reached keeps to its own cell
@@ -582,9 +582,13 @@ void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const 
   }
   // Sibson: the rows of queries whose new cell provably stays in their own node's cell, written
   // without their search (single_owner.hpp); they leave `queries`
+  std::size_t restricted = 0;
   const std::size_t single_owner =
-      laplace ? 0 : write_single_owner_rows(policy, p, d, opt, voxel_of, k, nodes, node, weight, queries);
-  if (opt.stats) opt.stats->single_owner_rows = single_owner;
+      laplace ? 0 : write_single_owner_rows(policy, p, d, opt, voxel_of, k, nodes, node, weight, queries, restricted);
+  if (opt.stats) {
+    opt.stats->single_owner_rows = single_owner;
+    opt.stats->single_owner_restricted = restricted;
+  }
   // Rows of chosen points come in any order: run them in Morton (Z-curve) order of their voxels, so
   // that consecutive queries are near each other in all axes, their cells overlap and a search finds
   // much of its neighbourhood in the cache. Rows already in voxel order (the whole grid) keep it. Each
@@ -634,7 +638,7 @@ void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const 
       report(opt.progress, double(end) / double(total));
     }
     if (opt.stats) opt.stats->queries = total;
-  } else if constexpr (queries_on_host<Policy>::value) {
+  } else if constexpr (hooks::queries_on_host<Policy>::value) {
     if (total > 0) fused_natural_neighbours(policy, p, d, opt, laplace, nodes, queries, voxel_of, lanes, write);
   } else {
     // a device backend: batches of materialised cells, as many queries per batch as the memory budget

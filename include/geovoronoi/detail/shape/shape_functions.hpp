@@ -1,9 +1,11 @@
 #pragma once
 // Bodies of geovoronoi/shape_functions.hpp.
 
+#include <geovoronoi/detail/parallel.hpp>
 #include <geovoronoi/detail/shape/common.hpp>
 #include <geovoronoi/detail/shape/distance_ratio.hpp>
 #include <geovoronoi/detail/shape/natural_neighbours.hpp>
+#include <geovoronoi/policy.hpp>
 
 #include <limits>
 #include <stdexcept>
@@ -117,6 +119,7 @@ point_weights<typename P::value_type> shape_functions_at(const Policy& policy, c
                                                          const std::vector<coord<P::dim>>& points,
                                                          const shape_options& opt) {
   using T = typename P::value_type;
+  detail::require_policy<Policy>();
   detail::shape::validate(problem, d, opt);
   point_weights<T> w;
   w.points = points.size();
@@ -167,6 +170,7 @@ point_weights<typename P::value_type> shape_functions_at(const Policy& policy, c
                                                          const diagram<typename P::value_type, P::dim>& d,
                                                          const std::vector<point<P::dim>>& world_points,
                                                          const shape_options& opt) {
+  detail::require_policy<Policy>();
   std::vector<coord<P::dim>> c;
   c.reserve(world_points.size());
   for (const auto& x : world_points) c.push_back(problem.geometry.nearest_voxel(x));

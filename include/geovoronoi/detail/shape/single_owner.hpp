@@ -4,12 +4,12 @@
 // whose new cell stays in their own cell"); the comments below name its steps.
 
 #include <geovoronoi/cut.hpp>
-#include <geovoronoi/detail/stencil_walk.hpp>
+#include <geovoronoi/detail/search/relax.hpp>
+#include <geovoronoi/detail/search/stencil_walk.hpp>
 #include <geovoronoi/metric.hpp>
 #include <geovoronoi/result.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -19,25 +19,6 @@
 #include <vector>
 
 namespace geovoronoi::detail::shape {
-
-/// Test hook: the most voxels the short per-query search of single_owner_filter pops before handing
-/// the query to the search on restricted bounds (0 sends every reached query there).
-inline std::atomic<std::size_t>& single_owner_max_pops() {
-  static std::atomic<std::size_t> pops{256};
-  return pops;
-}
-
-/// Test hook: queries decided by the search on restricted bounds, counted over the process.
-inline std::atomic<std::size_t>& single_owner_restricted_count() {
-  static std::atomic<std::size_t> count{0};
-  return count;
-}
-
-/// Metrics whose weight is never negative between two voxels of the domain (lengths are positive,
-/// stiffness > 0, costs >= 0): the filter need not look for negative weights.
-template <class M>
-inline constexpr bool nonnegative_metric_v = std::is_same_v<M, uniform> || std::is_same_v<M, min_stiffness> ||
-                                             std::is_same_v<M, mean_stiffness> || std::is_same_v<M, mean_cost>;
 
 /**
  * Which queries' new cells may hold a voxel of another node than their own.
@@ -93,7 +74,7 @@ class single_owner_filter {
     constexpr double eta = double(std::numeric_limits<T>::denorm_min());
     // a + b - c + m rounded up: the double operations err by at most 2^-52 of the operands' sum
     auto up = [](double x, double scale) { return x + std::ldexp(scale, -50); };
-    if constexpr (!nonnegative_metric_v<typename P::metric_type>) {
+    if constexpr (!search::never_negative_v<typename P::metric_type>) {
       for (index_t z = 0; z < n && !negative_; ++z)
         if (stealable(z))
           walk_.for_each_neighbour(p, z, [&](int dir, index_t v) {
@@ -137,7 +118,7 @@ class single_owner_filter {
       walk_.for_each_neighbour(p, z, [&](int dir, index_t w) {
         if (lab_[w] != k || !stealable(w)) return;
         // the search from q steps w -> z: the weight of that direction
-        const T c = p.metric(p.edges.length[opposite_direction(dir, P::neighbours)], p.field[w], fz);
+        const T c = search::edge_weight(p.metric, p.edges.length[opposite_direction(dir, P::neighbours)], p.field[w], fz);
         double nb = b;
         if (c > T(0)) {
           const double cd = double(c), m = std::min(cd, 2 * u * b + eta);
@@ -195,7 +176,7 @@ class single_owner_filter {
           found = true;
           return;
         }
-        const T av = a + c;
+        const T av = search::extend(a, c);
         if (lab_[w] != k) {
           // another node's voxel (or an unreached one) that the search would enter
           if (av < dist_[w]) found = true;
@@ -244,7 +225,7 @@ class single_owner_filter {
   }
 
   const P& p_;
-  stencil_walker<P::dim> walk_;
+  search::stencil_walker<P::dim> walk_;
   const T* dist_;
   const label_t* lab_;
   std::vector<double> budget_;

@@ -64,7 +64,7 @@ bool translation_invariant(const P& p) {
   constexpr int N = P::neighbours;
   T w[N];
   for (int k = 0; k < N; ++k) {
-    w[k] = p.metric(p.edges.length[k], f0, f0);
+    w[k] = search::edge_weight(p.metric, p.edges.length[k], f0, f0);
     if (!(w[k] >= T(0)) || !(w[k] < std::numeric_limits<T>::infinity())) return false;
   }
   for (int k = 0; k < N; ++k) {
@@ -308,7 +308,7 @@ void accumulate_offset(const offset_table<P>& tab, const D& d, const std::vector
   index_t mstep[6];
   const index_t pstride[3] = {1, sy, sz};
   for (std::size_t j = 0; j < faces.size(); ++j) {
-    cface[j] = p.metric(p.edges.length[faces[j].edge], f0, f0);  // every edge of a direction weighs the same
+    cface[j] = search::edge_weight(p.metric, p.edges.length[faces[j].edge], f0, f0);  // every edge of a direction weighs the same
     mstep[j] = faces[j].dir * pstride[faces[j].axis];
   }
   const unsigned char* m = mask.data();

@@ -10,7 +10,8 @@
 #include <geovoronoi/detail/shape/distance_ratio_update.hpp>
 #include <geovoronoi/detail/shape/natural_neighbours.hpp>
 #include <geovoronoi/shape_functions.hpp>
-#include <geovoronoi/update.hpp>
+#include <geovoronoi/change.hpp>
+#include <geovoronoi/detail/update/node_list.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -155,12 +156,12 @@ inline void offer(std::vector<double>& budget, std::vector<index_t>& reached,
 /// One step of the searches from N[X] \ X: from @p u into its neighbours w outside X and inside the
 /// domain, each at the weight of the edge w -> u (the searches being bounded run toward N[X]).
 template <class P, class F>
-void toward_x_step(const P& after, const stencil_walker<P::dim>& walk, const update::voxel_bits& x, index_t u, F&& f) {
+void toward_x_step(const P& after, const stencil_walker<P::dim>& walk, const voxel_bits& x, index_t u, F&& f) {
   using T = typename P::value_type;
   const T fu = after.field[u];
   walk.for_each_neighbour(after, u, [&](int k, index_t w) {
     if (x.test(w) || !after.inside(w)) return;
-    const T wt = after.metric(after.edges.length[opposite_direction(k, P::neighbours)], after.field[w], fu);
+    const T wt = edge_weight(after.metric, after.edges.length[opposite_direction(k, P::neighbours)], after.field[w], fu);
     if (wt >= T(0)) f(w, double(wt));
   });
 }
@@ -176,9 +177,9 @@ void toward_x_step(const P& after, const stencil_walker<P::dim>& walk, const upd
  * in the problem after, through voxels outside X, finds every such q.
  */
 template <class P, class D>
-void natural_neighbour_candidates(const P& after, const D& before, const update::voxel_bits& x,
+void natural_neighbour_candidates(const P& after, const D& before, const voxel_bits& x,
                                   const std::vector<index_t>& xs, const rounding_margin<typename P::value_type>& bound,
-                                  update::voxel_bits& rows) {
+                                  voxel_bits& rows) {
   using T = typename P::value_type;
   const index_t n = after.geometry.size();
   const stencil_walker<P::dim> walk(after);
@@ -212,8 +213,8 @@ void natural_neighbour_candidates(const P& after, const D& before, const update:
  */
 template <class P, class D>
 std::size_t distance_ratio_candidates(const P& after, const D& before, const D& d_after, const renumbering& ren,
-                                      const update::voxel_bits& x, const std::vector<index_t>& xs,
-                                      const rounding_margin<typename P::value_type>& bound, update::voxel_bits& rows) {
+                                      const voxel_bits& x, const std::vector<index_t>& xs,
+                                      const rounding_margin<typename P::value_type>& bound, voxel_bits& rows) {
   using T = typename P::value_type;
   const index_t n = after.geometry.size();
   const std::size_t nb = before.seeds.size(), na = d_after.seeds.size();
@@ -334,7 +335,7 @@ std::size_t distance_ratio_candidates(const P& after, const D& before, const D& 
     walk.for_each_neighbour(after, u, [&](int k, index_t w) {
       if (x.test(w)) return f(w, 0.0);
       if (!after.inside(w)) return;
-      const T wt = after.metric(after.edges.length[k], fu, after.field[w]);
+      const T wt = edge_weight(after.metric, after.edges.length[k], fu, after.field[w]);
       if (wt >= T(0)) f(w, double(wt));
     });
     return true;
@@ -376,11 +377,11 @@ void update_rows(const Policy& policy, const P& after, const D& before, const D&
       throw std::logic_error(who + "the stencil is not symmetric about its middle");
 
   // X: voxels whose distance, (renumbered) label or field changed, and the ends of new cut edges
-  update::voxel_bits x(n);
+  voxel_bits x(n);
   std::vector<index_t> xs;
   // and apart, XE: the voxels at a changed edge or field (what a search's distances depend on), and
   // XF: those whose field changed (all their edges' weights may have changed)
-  update::voxel_bits xe(n), xf(n);
+  voxel_bits xe(n), xf(n);
   std::vector<index_t> xes;
   auto mark = [&](index_t v) {
     if (x.insert(v)) xs.push_back(v);
@@ -427,7 +428,7 @@ void update_rows(const Policy& policy, const P& after, const D& before, const D&
   if (state) state->reset();
 
   // R: the voxels whose rows are recomputed
-  update::voxel_bits rows(n);
+  voxel_bits rows(n);
   // a simple path of the problem before or after stays in its domain: at most (inside after) + |X|
   // voxels, since a voxel whose domain membership changed is in X
   index_t inside = index_t(xs.size());

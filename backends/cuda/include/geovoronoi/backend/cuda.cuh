@@ -5,8 +5,9 @@
 ///
 /// Select it by passing geovoronoi::cuda::par (or `par.on(stream)`) as the first argument of any
 /// solver entry point in geovoronoi/voronoi.hpp. Results are bitwise identical to geovoronoi::seq:
-/// edge weights come from the same metric objects and stencil lengths, additions are __fadd_rn /
-/// __dadd_rn and the target carries --fmad=false. Needs nvcc; link geovoronoi::cuda.
+/// edge weights come from the same metric objects and stencil lengths through the relaxation step of
+/// detail/search/relax.hpp (additions are __fadd_rn / __dadd_rn) and the target carries
+/// --fmad=false. Needs nvcc; link geovoronoi::cuda.
 ///
 /// Device memory: plain cudaMalloc through RAII owners (never managed memory). A dense float solve
 /// peaks at 12 bytes per voxel (4 field + 8 key) plus 12 bytes per 512-voxel tile; a double solve at

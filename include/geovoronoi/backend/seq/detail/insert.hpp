@@ -1,8 +1,8 @@
 #pragma once
-// The sequential backend's batched insert-query: the shared engine's sparse search (detail/dijkstra/),
+// The sequential backend's batched insert-query: the shared engine's sparse search (detail/search/),
 // one query after the other in one scratch, each touching its new cell and the cell's rim only.
 
-#include <geovoronoi/detail/dijkstra/sparse.hpp>
+#include <geovoronoi/detail/search/sparse.hpp>
 #include <geovoronoi/result.hpp>
 
 #include <vector>
@@ -17,7 +17,7 @@ query_cells<typename P::value_type> insert_queries(const P& p, Scratch& scratch,
   query_cells<typename P::value_type> out;
   out.query.reserve(queries.size());
   out.offsets.reserve(queries.size() + 1);
-  dijkstra::insert_queries(p, scratch.keys, scratch.heap, d, queries.data(), queries.size(), out);
+  search::insert_queries(p, scratch.keys, scratch.heap, d, queries.data(), queries.size(), out);
   return out;
 }
 

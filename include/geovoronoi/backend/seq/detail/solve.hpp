@@ -1,13 +1,13 @@
 #pragma once
-// The sequential backend's dense and bounded solves: the shared Dijkstra engine (detail/dijkstra/)
+// The sequential backend's dense and bounded solves: the shared Dijkstra engine (detail/search/)
 // with keys in a dense per-voxel array, or in the paged scratch of the sparse searches.
 
 #include <geovoronoi/detail/big_array.hpp>
-#include <geovoronoi/detail/dijkstra/engine.hpp>
-#include <geovoronoi/detail/dijkstra/sparse.hpp>
-#include <geovoronoi/detail/key.hpp>
+#include <geovoronoi/detail/search/engine.hpp>
+#include <geovoronoi/detail/search/sparse.hpp>
+#include <geovoronoi/detail/search/key.hpp>
 #include <geovoronoi/detail/overflow.hpp>
-#include <geovoronoi/detail/radix_heap.hpp>
+#include <geovoronoi/detail/search/radix_heap.hpp>
 #include <geovoronoi/image.hpp>
 #include <geovoronoi/result.hpp>
 
@@ -22,18 +22,18 @@ template <class P>
 diagram<typename P::value_type, P::dim> solve(const P& p, const std::vector<source<typename P::value_type>>& sources,
                                               typename P::value_type radius, const solve_control& ctl = {}) {
   using T = typename P::value_type;
-  using kt = key_traits<T>;
+  using kt = search::key_traits<T>;
   const index_t n = p.geometry.size();
-  big_array<dijkstra::node<T>> work(static_cast<std::size_t>(n));
+  big_array<search::node<T>> work(static_cast<std::size_t>(n));
   for (index_t v = 0; v < n; ++v) {
     work[v].set_key(kt::unreached);
     work[v].field = p.field[v];
   }
-  dijkstra::solve_monitor mon{&ctl, ctl.reporting() ? double(dijkstra::count_inside(p)) : 1.0};
+  search::solve_monitor mon{&ctl, ctl.reporting() ? double(search::count_inside(p)) : 1.0};
   ctl.report(0.0);
-  dijkstra::dense_keys<T> st{work.data()};
-  radix_heap<T> heap;
-  dijkstra::run_from_sources(p, st, heap, sources, radius, mon);
+  search::dense_keys<T> st{work.data()};
+  search::radix_heap<T> heap;
+  search::run_from_sources(p, st, heap, sources, radius, mon);
   diagram<T, P::dim> d;
   d.distance = image<T, P::dim>(p.geometry, std::numeric_limits<T>::infinity());
   d.label = image<label_t, P::dim>(p.geometry, no_label);
@@ -54,7 +54,7 @@ template <class P, class Scratch>
 sparse_solution<typename P::value_type> bounded(const P& p, Scratch& scratch,
                                                 const std::vector<source<typename P::value_type>>& sources,
                                                 typename P::value_type radius, const solve_control& ctl = {}) {
-  return dijkstra::bounded(p, scratch.keys, scratch.heap, sources, radius, ctl);
+  return search::bounded(p, scratch.keys, scratch.heap, sources, radius, ctl);
 }
 
 }  // namespace geovoronoi::detail::seq

@@ -18,6 +18,7 @@
 #include <geovoronoi/backend/cuda/detail/error.cuh>
 #include <geovoronoi/backend/cuda/detail/tile_ops.hpp>
 #include <geovoronoi/backend/cuda/detail/tiling.hpp>
+#include <geovoronoi/detail/search/relax.hpp>
 #include <geovoronoi/error.hpp>
 #include <geovoronoi/metric.hpp>
 
@@ -151,10 +152,6 @@ inline int sm_count() {
   return sms;
 }
 
-[[noreturn]] inline void throw_bad_weight() {
-  throw metric_error("geovoronoi::cuda: the metric returned a negative or NaN edge weight; weights must be >= 0");
-}
-
 /**
  * Relaxes @p words (one per voxel, already on the device, all ones where unreached) from @p seeds
  * to the least fixed point of @p rule. @p dp is the problem with its field pointer on the device.
@@ -212,7 +209,7 @@ long long run_engine(const P& dp, const Rule& rule, const tiling& t, unsigned lo
   int bad = 0;
   b.error.download(&bad, 1, stream);
   sync(stream, "relaxation error flag");
-  if (bad) throw_bad_weight();
+  if (bad) geovoronoi::detail::search::bad_weight();
   return it + 1;
 }
 

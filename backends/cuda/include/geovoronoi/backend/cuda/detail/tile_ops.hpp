@@ -10,6 +10,7 @@
 
 #include <geovoronoi/backend/cuda/detail/tiling.hpp>
 #include <geovoronoi/cut.hpp>
+#include <geovoronoi/detail/search/relax.hpp>
 #include <geovoronoi/metric.hpp>
 
 #include <cstdint>
@@ -34,30 +35,17 @@ namespace detail {
 template <class P>
 using dmetric_t = typename device_metric<typename P::metric_type>::type;
 
-/// Round-to-nearest addition that the compiler may not fuse or reorder (on the host the build's
-/// -ffp-contract=off gives the same guarantee).
-GEOVORONOI_HOST_DEVICE inline float add_rn(float a, float b) {
-#ifdef __CUDA_ARCH__
-  return __fadd_rn(a, b);
-#else
-  return a + b;
-#endif
-}
-GEOVORONOI_HOST_DEVICE inline double add_rn(double a, double b) {
-#ifdef __CUDA_ARCH__
-  return __dadd_rn(a, b);
-#else
-  return a + b;
-#endif
-}
-
-/// Edge weight from a voxel with field @p from to one with field @p to through neighbour k.
+/// Edge weight from a voxel with field @p from to one with field @p to through neighbour k: the
+/// relaxation step's weight (detail/search/relax.hpp) with the device form of the metric.
 template <class P>
 GEOVORONOI_HOST_DEVICE inline typename P::value_type edge_weight(const P& p, int k, typename P::value_type from,
                                                                  typename P::value_type to) {
-  const auto& m = device_metric<typename P::metric_type>::convert(p.metric);
-  return m(p.edges.length[k], from, to);
+  return geovoronoi::detail::search::edge_weight(device_metric<typename P::metric_type>::convert(p.metric),
+                                                 p.edges.length[k], from, to);
 }
+
+/// The relaxation step's addition (detail/search/relax.hpp).
+using geovoronoi::detail::search::extend;
 
 template <class P>
 GEOVORONOI_HOST_DEVICE inline bool in_domain(typename P::value_type f) {
@@ -82,7 +70,7 @@ struct rule_voronoi {
   float radius;
   int* overflow = nullptr;  ///< device flag set when a candidate's sum is +inf (optional)
   GEOVORONOI_HOST_DEVICE uint64_t candidate(uint64_t from, float w, index_t, uint64_t) const {
-    const float nd = add_rn(key_distance(from), w);
+    const float nd = extend(key_distance(from), w);
     if (nd < radius) return pack(nd, key_label(from));
     note_overflow(overflow, nd);
     return unreached;
@@ -97,7 +85,7 @@ struct rule_voronoi {
 struct rule_label {
   GEOVORONOI_HOST_DEVICE uint64_t candidate(uint64_t from, float w, index_t, uint64_t to) const {
     if (to == unreached) return unreached;
-    const float nd = add_rn(key_distance(from), w);
+    const float nd = extend(key_distance(from), w);
     return float_bits(nd) == uint32_t(to >> 32) ? pack(key_distance(to), key_label(from)) : unreached;
   }
 };
@@ -113,7 +101,7 @@ struct rule_distance {
   T radius;
   int* overflow = nullptr;  ///< as rule_voronoi::overflow
   GEOVORONOI_HOST_DEVICE uint64_t candidate(uint64_t from, T w, index_t, uint64_t) const {
-    const T nd = add_rn(word_distance<T>(from), w);
+    const T nd = extend(word_distance<T>(from), w);
     if (nd < radius) return distance_word(nd);
     note_overflow(overflow, nd);
     return unreached;
@@ -125,7 +113,7 @@ template <class T>
 struct rule_insert {
   const T* old;
   GEOVORONOI_HOST_DEVICE uint64_t candidate(uint64_t from, T w, index_t v, uint64_t) const {
-    const T nd = add_rn(word_distance<T>(from), w);
+    const T nd = extend(word_distance<T>(from), w);
     return nd < old[v] ? distance_word(nd) : unreached;
   }
 };
@@ -247,7 +235,7 @@ GEOVORONOI_HOST_DEVICE inline std::uint32_t realising_label(const P& p, const ti
     const uint64_t du = words[u];
     if (du == unreached) continue;
     const T w = edge_weight(p, k, p.field[u], fv);
-    if (distance_word(add_rn(word_distance<T>(du), w)) != dv) continue;
+    if (distance_word(extend(word_distance<T>(du), w)) != dv) continue;
     const std::uint32_t lu = label_at(u);
     if (lu < best) best = lu;
   }
@@ -302,7 +290,7 @@ GEOVORONOI_HOST_DEVICE inline uint64_t box_pull(const P& p, const tiling& t, con
     if (su == unreached) continue;
     const T w = edge_weight(p, k, p.field[v + p.edges.delta[k]], fv);
     if (!(w >= T(0))) continue;  // the diagram's own solve reports bad weights
-    const T nd = add_rn(word_distance<T>(su), w);
+    const T nd = extend(word_distance<T>(su), w);
     if (!(nd < dold)) continue;
     const uint64_t c = distance_word(nd);
     if (c < best) best = c;

@@ -6,7 +6,7 @@
 // is lowered while its voxel is being expanded always re-queues the voxel.
 
 #include <geovoronoi/config.hpp>
-#include <geovoronoi/detail/key.hpp>
+#include <geovoronoi/detail/search/key.hpp>
 
 #include <cstdint>
 
@@ -107,7 +107,7 @@ struct key_cell;
 /// float: the packed 64-bit key, lowered with one atomic min (a CAS loop on the host).
 template <>
 struct key_cell<float> {
-  using kt = geovoronoi::detail::key_traits<float>;
+  using kt = geovoronoi::detail::search::key_traits<float>;
   using key_type = kt::key_type;
   std::uint64_t bits;
 
@@ -136,7 +136,7 @@ struct key_cell<float> {
 /// double: the 96-bit key does not fit one portable atomic, so each cell carries a small spin lock.
 template <>
 struct key_cell<double> {
-  using kt = geovoronoi::detail::key_traits<double>;
+  using kt = geovoronoi::detail::search::key_traits<double>;
   using key_type = kt::key_type;
   std::uint64_t d;
   std::uint32_t l;

@@ -14,8 +14,9 @@
 
 #include <geovoronoi/backend/thrust/detail/atomics.hpp>
 #include <geovoronoi/backend/thrust/detail/system.hpp>
-#include <geovoronoi/detail/key.hpp>
-#include <geovoronoi/detail/stencil_walk.hpp>
+#include <geovoronoi/detail/search/key.hpp>
+#include <geovoronoi/detail/search/relax.hpp>
+#include <geovoronoi/detail/search/stencil_walk.hpp>
 #include <geovoronoi/error.hpp>
 #include <geovoronoi/metric.hpp>
 #include <geovoronoi/result.hpp>
@@ -30,6 +31,9 @@
 #include <utility>
 
 namespace geovoronoi::thrust::detail {
+
+/// The host search core (detail/search/): keys, the stencil walk, the relaxation step.
+namespace search = geovoronoi::detail::search;
 
 /// Work counters of one engine run.
 struct engine_counts {
@@ -92,12 +96,12 @@ template <class P, class Accept, int Chunk>
 struct expand_fn {
   using T = typename P::value_type;
   using cell = key_cell<T>;
-  using kt = geovoronoi::detail::key_traits<T>;
+  using kt = search::key_traits<T>;
   static constexpr int N = P::neighbours;
   static constexpr index_t top = index_t(Chunk) * N;
 
   P p;
-  geovoronoi::detail::stencil_walker<P::dim> walk;
+  search::stencil_walker<P::dim> walk;
   index_t n;
   cell* keys;
   flag_t* flags;
@@ -145,12 +149,12 @@ struct expand_fn {
         if (!again && !(ku < cell::load(keys + v))) return;
         const T fv = p.field[v];
         if (!geovoronoi::detail::inside<typename P::metric_type>(fv)) return;
-        const T w = p.metric(p.edges.length[k], fu, fv);
+        const T w = search::edge_weight(p.metric, p.edges.length[k], fu, fv);
         if (!(w >= T(0))) {
           raise(error);
           return;
         }
-        const T nd = du + w;
+        const T nd = search::extend(du, w);
         if (!accept(v, nd)) {
           if (!(nd <= largest)) raise(overflow);  // the unbounded solves reject nothing else
           return;
@@ -184,7 +188,7 @@ template <class P, int Chunk>
 struct split_fn {
   using T = typename P::value_type;
   using cell = key_cell<T>;
-  using kt = geovoronoi::detail::key_traits<T>;
+  using kt = search::key_traits<T>;
   P p;
   cell* keys;
   flag_t* flags;
@@ -222,7 +226,7 @@ struct far_distance {
   T inf;
   GEOVORONOI_HOST_DEVICE T operator()(index_t v) const {
     if ((flag_load(flags + v) & state_mask) != queued_far) return inf;
-    return geovoronoi::detail::key_traits<T>::distance(key_cell<T>::load(keys + v));
+    return search::key_traits<T>::distance(key_cell<T>::load(keys + v));
   }
 };
 template <class T>
@@ -252,14 +256,14 @@ T window(T base, int k) noexcept {
 /// Smallest weight of an edge into v (+inf when no neighbour is inside the domain): how far a
 /// distance must rise above v's before a path through v's neighbours can undercut it.
 template <class P>
-typename P::value_type min_in_weight(const P& p, const geovoronoi::detail::stencil_walker<P::dim>& walk, index_t v) {
+typename P::value_type min_in_weight(const P& p, const search::stencil_walker<P::dim>& walk, index_t v) {
   using T = typename P::value_type;
   T best = std::numeric_limits<T>::infinity();
   const T fv = p.field[v];
   auto look = [&](int k, index_t u) {
     const T fu = p.field[u];
     if (!geovoronoi::detail::inside<typename P::metric_type>(fu)) return;
-    const T w = p.metric(p.edges.length[k], fu, fv);
+    const T w = search::edge_weight(p.metric, p.edges.length[k], fu, fv);
     if (w < best) best = w;
   };
   walk.for_each_neighbour(p, v, look);
@@ -285,7 +289,7 @@ inline constexpr int step_hops = 4;
 inline constexpr int local_depth = 4;
 
 template <class P>
-bool sample_theta(const P& p, const geovoronoi::detail::stencil_walker<P::dim>& walk, const key_cell<typename P::value_type>* keys, const flag_t* flags,
+bool sample_theta(const P& p, const search::stencil_walker<P::dim>& walk, const key_cell<typename P::value_type>* keys, const flag_t* flags,
                   const index_t* list, index_t size, index_t target, std::vector<typename P::value_type>& scratch,
                   std::vector<typename P::value_type>& weights, typename P::value_type& theta,
                   typename P::value_type& base) {
@@ -299,7 +303,7 @@ bool sample_theta(const P& p, const geovoronoi::detail::stencil_walker<P::dim>& 
   for (index_t i = 0; i < s; ++i) {
     const index_t v = list[i * size / s];
     if ((flag_load(flags + v) & state_mask) != queued_far) continue;
-    const T d = geovoronoi::detail::key_traits<T>::distance(key_cell<T>::load(keys + v));
+    const T d = search::key_traits<T>::distance(key_cell<T>::load(keys + v));
     scratch.push_back(d);
     lo = std::min(lo, d);
     if (static_cast<index_t>(weights.size()) * s < weight_samples * (i + 1)) {
@@ -380,7 +384,7 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
   constexpr int chunk = device ? 1 : 32;
   constexpr int split_chunk = device ? 1 : 64;
   const index_t cap = device ? (index_t(1) << 18) : (index_t(1) << 14);
-  const geovoronoi::detail::stencil_walker<P::dim> walk(p);
+  const search::stencil_walker<P::dim> walk(p);
   const index_t n = p.geometry.size();
   target = std::max<index_t>(target, 1);
 
@@ -446,7 +450,7 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
       ++counts.rounds;
     }
     if (read<Exec>(raw(error)) != 0)
-      throw metric_error("geovoronoi: the metric returned a negative or NaN edge weight; weights must be >= 0");
+      search::bad_weight();
     // progress by expansions over the domain's voxels (about one expansion per voxel), once a round
     if (ctl.reporting()) ctl.report(std::min(0.999, double(counts.expansions) / total));
     using std::swap;

@@ -6,10 +6,10 @@
 // arrays, pruned by the diagram's distances.
 
 #include <geovoronoi/backend/thrust/detail/solve.hpp>
-#include <geovoronoi/detail/key.hpp>
-#include <geovoronoi/detail/radix_heap.hpp>
-#include <geovoronoi/detail/dijkstra/engine.hpp>
-#include <geovoronoi/detail/dijkstra/sparse.hpp>
+#include <geovoronoi/detail/search/key.hpp>
+#include <geovoronoi/detail/search/radix_heap.hpp>
+#include <geovoronoi/detail/search/engine.hpp>
+#include <geovoronoi/detail/search/sparse.hpp>
 #include <geovoronoi/result.hpp>
 
 #include <algorithm>
@@ -32,14 +32,13 @@ struct query_block_fn {
   std::exception_ptr* error;
 
   void operator()(index_t b) const {
-    namespace eng = geovoronoi::detail::dijkstra;
     query_cells<T>& o = out[b];
     try {
       // the sequential engine's paged sparse search, one scratch per block (its page table costs one
       // pointer per 64 voxels of the grid)
-      eng::sparse_scratch<T> s;
+      search::sparse_scratch<T> s;
       const index_t end = std::min(count, (b + 1) * block);
-      eng::insert_queries(*p, s.keys, s.heap, *d, queries + b * block, std::size_t(end - b * block), o);
+      search::insert_queries(*p, s.keys, s.heap, *d, queries + b * block, std::size_t(end - b * block), o);
     } catch (...) {
       error[b] = std::current_exception();
     }
@@ -84,7 +83,7 @@ query_cells<typename P::value_type> insert_queries(const Exec& exec, const P& p,
     return out;
   } else {
 #ifdef __CUDACC__
-    using kt = geovoronoi::detail::key_traits<T>;
+    using kt = search::key_traits<T>;
     const index_t n = p.geometry.size();
     vec<Exec, T> old(d.distance.data(), d.distance.data() + n);
     dense_state<Exec, T> st;

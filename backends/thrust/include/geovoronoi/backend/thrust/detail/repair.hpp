@@ -62,7 +62,7 @@ std::size_t repair_labels(const P& p, Store& st, const std::vector<source<typena
                           std::vector<index_t> set) {
   using T = typename P::value_type;
   if (set.empty()) return 0;
-  const geovoronoi::detail::stencil_walker<P::dim> walk(p);
+  const search::stencil_walker<P::dim> walk(p);
 
   // sources by voxel, for the label a source gives its own voxel (if its distance is the final one)
   std::vector<std::pair<index_t, std::size_t>> by_voxel(sources.size());
@@ -91,7 +91,7 @@ std::size_t repair_labels(const P& p, Store& st, const std::vector<source<typena
       if (in_set.count(y)) return;
       const index_t iy = st.find(y);
       if (iy < 0 || st.label[iy] != lx || !p.inside(y)) return;
-      const T nd = dx + p.metric(p.edges.length[k], fx, p.field[y]);
+      const T nd = search::extend(dx, search::edge_weight(p.metric, p.edges.length[k], fx, p.field[y]));
       if (nd == st.distance[iy]) {
         in_set.insert(y);
         set.push_back(y);
@@ -127,7 +127,7 @@ std::size_t repair_labels(const P& p, Store& st, const std::vector<source<typena
           const label_t lu = st.label[iu];
           if (lu == no_label || (best != no_label && lu >= best)) return;
           if (!p.inside(u)) return;
-          const T nd = st.distance[iu] + p.metric(p.edges.length[k], p.field[u], fv);
+          const T nd = search::extend(st.distance[iu], search::edge_weight(p.metric, p.edges.length[k], p.field[u], fv));
           if (nd == dv) best = lu;
         };
         walk.for_each_neighbour(p, v, take);

@@ -3,7 +3,7 @@
 
 #include <geovoronoi/backend/thrust/detail/engine.hpp>
 #include <geovoronoi/backend/thrust/detail/repair.hpp>
-#include <geovoronoi/detail/dijkstra/engine.hpp>
+#include <geovoronoi/detail/search/engine.hpp>
 #include <geovoronoi/detail/overflow.hpp>
 #include <geovoronoi/error.hpp>
 #include <geovoronoi/image.hpp>
@@ -53,7 +53,7 @@ struct unpack_fn {
   label_t* label;
   T inf;
   GEOVORONOI_HOST_DEVICE void operator()(index_t v) const {
-    using kt = geovoronoi::detail::key_traits<T>;
+    using kt = search::key_traits<T>;
     const auto k = key_cell<T>::load(keys + v);
     if (k == kt::unreached_key()) {
       distance[v] = inf;
@@ -153,7 +153,7 @@ struct dense_state {
 /// Initialise keys and flags for @p sources (those not accepted, here d >= radius, are left out).
 template <class Exec, class T, class Keep>
 void seed(const Exec& exec, dense_state<Exec, T>& st, index_t n, const std::vector<source<T>>& sources, Keep keep) {
-  using kt = geovoronoi::detail::key_traits<T>;
+  using kt = search::key_traits<T>;
   st.keys.resize(static_cast<std::size_t>(n));
   st.flags.resize(static_cast<std::size_t>(n));
   if (go_parallel<Exec>(n)) {
@@ -190,7 +190,7 @@ engine_counts run_below(const Exec& exec, const P& p, const std::vector<source<t
   // the progress denominator: the domain's voxels where the field is host memory, else the grid's
   double total = double(p.geometry.size());
   if constexpr (!is_cuda_policy_v<Exec>)
-    if (ctl.reporting()) total = double(geovoronoi::detail::dijkstra::count_inside(p));
+    if (ctl.reporting()) total = double(search::count_inside(p));
   ctl.report(0.0);
   seed(exec, st, p.geometry.size(), sources, [radius](const source<T>& s) { return s.distance < radius; });
   return run(exec, p, raw(st.keys), raw(st.flags), st.far, st.far_size, below_radius<T>{radius}, target, ctl, total);
@@ -264,7 +264,7 @@ struct reached_fn {
   index_t* count;
   index_t* out;  // nullptr: count pass
   GEOVORONOI_HOST_DEVICE void operator()(index_t j) const {
-    using kt = geovoronoi::detail::key_traits<T>;
+    using kt = search::key_traits<T>;
     const index_t begin = j * chunk, end = begin + chunk < n ? begin + chunk : n;
     if (begin >= n) {
       if (!out) count[j] = 0;
@@ -287,7 +287,7 @@ struct sparse_fn {
   T* distance;
   label_t* label;
   GEOVORONOI_HOST_DEVICE void operator()(index_t i) const {
-    using kt = geovoronoi::detail::key_traits<T>;
+    using kt = search::key_traits<T>;
     const auto k = key_cell<T>::load(keys + voxel[i]);
     distance[i] = kt::distance(k);
     label[i] = kt::label(k);

@@ -3,15 +3,14 @@
 // lane per query. The fast path of Sibson and Laplace for float problems with a built-in metric on
 // x86 hosts; fused_padded.hpp stays the path for every other problem.
 //
-// Why: the cells of neighbouring queries overlap almost entirely (on the steak phantom the union of
-// 16 queries in a 4x2x2 block of voxels is 1.4-1.6 times one cell, of 32 in a 4x4x2 block about 2.2),
-// and the expensive part of a search -- the heap, loading the 26 neighbours, their field values and
-// the edge weights -- does not depend on the query. So each voxel carries 32 keys, one per query (two
-// 64-byte cache lines), and one settle relaxes all of them with two AVX-512 registers per neighbour
-// where the CPU has it (chosen at run time), else eight SSE2 registers. With 16 lanes a search on the
-// steak settled fewer voxels but cost about 1.2 times as much per query (docs/shape-functions.md);
-// the query loop still takes 16 lanes (half the memory per worker) where the memory budget would
-// otherwise run fewer workers than threads.
+// Why: the cells of neighbouring queries overlap almost entirely (the union of the cells of a 4x4x2
+// block of queries is a small multiple of one cell), and the expensive part of a search -- the heap,
+// loading the 26 neighbours, their field values and the edge weights -- does not depend on the query.
+// So each voxel carries 32 keys, one per query (two 64-byte cache lines), and one settle relaxes all
+// of them with two AVX-512 registers per neighbour where the CPU has it (chosen at run time), else
+// eight SSE2 registers. 32 lanes cost less per query than 16 (docs/shape-functions.md); the query loop
+// still takes 16 lanes (half the memory per worker) where the memory budget would otherwise run fewer
+// workers than threads.
 //
 // Why the results are bit for bit those of single searches. For one lane (query q), the single
 // search's keys end at the greatest solution, below the initial keys, of
@@ -23,16 +22,16 @@
 // relaxation improves, i.e. a solution). Here a lane takes part in a voxel's relaxation only while
 // that voxel is in its cell (inactive lanes add +inf), so each lane runs exactly its own system; only
 // the order is shared. Each lane's relaxation is the scalar expression: the weight is computed once
-// per edge (the same SSE lanes as fused_padded.hpp) and added to each lane's key by SSE or AVX-512
-// additions, which round like the scalar ones. Counting owners, cell sizes and facets reads the final keys, so
+// per edge (relax.hpp's SSE form) and added to each lane's key by relax.hpp's extend on SSE or
+// AVX-512 lanes, which round like the scalar addition. Counting owners, cell sizes and facets reads the final keys, so
 // order does not enter the weights either.
 //
 // Order. A voxel is queued at the smallest key that improved, and processed (all its lanes relaxed)
 // when popped, unless a later improvement queued it lower (its pending priority says which entry is
 // live). Lanes unchanged since the voxel was last processed cannot improve a neighbour again (the
 // neighbours' keys only went down), and every changed lane's key is at least the popped priority, so
-// every push is at or above the last pop: the radix heap's monotone contract holds. On the steak, a
-// voxel is processed 1.00-1.10 times per search (measured).
+// every push is at or above the last pop: the radix heap's monotone contract holds. A voxel is
+// processed little more than once per search.
 //
 // Counting while searching. A lane enters a voxel's cell at most once (its key drops below the bound
 // for good), so the owner's volume and the lane's cell size are counted at that moment, from the data
@@ -40,8 +39,8 @@
 // register (AVX-512; SSE2: four lanes per addition) counts them all in the owner's row, and the rows
 // go into the lanes' accumulators after the search; no pass over the cell re-reads the keys.
 // Laplace's facets need the final keys, so they are counted in a pass after the search, over the
-// touched voxels sorted by address (that pass and the reset then sweep memory in order; 2.5x faster
-// on the steak than in the search's order).
+// touched voxels sorted by address (that pass and the reset then sweep memory in order, which is much
+// faster than the search's order).
 //
 // Exact balls (piecewise.hpp): each lane seeds its query's ball as the single search does. A lane's
 // interior ball voxels are not queued, but they may be processed for another lane; their neighbours
@@ -49,12 +48,12 @@
 
 #include <geovoronoi/config.hpp>
 #include <geovoronoi/cut.hpp>
-#include <geovoronoi/detail/shape/common.hpp>
-#include <geovoronoi/detail/shape/fused_padded.hpp>
-#include <geovoronoi/detail/shape/piecewise.hpp>
+#include <geovoronoi/detail/search/cell_counts.hpp>
+#include <geovoronoi/detail/search/padded_grid.hpp>
+#include <geovoronoi/detail/search/radix_heap.hpp>
+#include <geovoronoi/detail/search/relax.hpp>
 #include <geovoronoi/metric.hpp>
 
-#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -62,51 +61,27 @@
 #include <type_traits>
 #include <vector>
 
-#if defined(__SSE2__) && !defined(__CUDA_ARCH__) && defined(__x86_64__) && !defined(__CUDACC__)
-#include <immintrin.h>
-#endif
-
-namespace geovoronoi::detail::shape {
+namespace geovoronoi::detail::search {
 
 #if defined(__SSE2__) && !defined(__CUDA_ARCH__)
 #define GEOVORONOI_FUSED_LANES 1
-
-// AVX-512 for the lanes where the CPU has it, chosen at run time (the library is compiled for plain
-// x86-64): GCC and Clang on x86-64, not under nvcc (its front end is kept away from the target attribute).
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(__CUDACC__) && !defined(__NVCOMPILER)
-#define GEOVORONOI_LANES_AVX512 1
-#endif
-
-/// Whether the lane search may use AVX-512 where the CPU has it (on by default). The tests turn
-/// it off to check the SSE2 search against it; set it before a call, not during one.
-inline std::atomic<bool>& lanes_avx512_switch() noexcept {
-  static std::atomic<bool> on{true};
-  return on;
-}
-inline bool lanes_avx512_enabled() noexcept { return lanes_avx512_switch().load(std::memory_order_relaxed); }
 
 /// Whether the lane search applies to problem type P: float and a built-in metric (weights on
 /// SSE lanes; >= 0 or NaN between inside voxels).
 template <class P>
 struct fused_lanes_apply
     : std::bool_constant<std::is_same_v<typename P::value_type, float> && sse_weight<typename P::metric_type>::value &&
-                         metric_never_negative<typename P::metric_type>::value> {};
+                         never_negative_v<typename P::metric_type>> {};
 
-/// The lanes per search the query loop may choose (0: its own choice, 32 where the memory budget holds
-/// as many such workers as it would use of 16 lanes). The tests set 16 or 32 to compare both widths;
-/// set it before a call, not during one.
-inline std::atomic<int>& lanes_width_switch() noexcept {
-  static std::atomic<int> width{0};
-  return width;
-}
-
-/// One worker's scratch for L (16 or 32) queries per search on the padded layout.
-template <class P, int L = 32>
+/// One worker's scratch for L (16 or 32) queries per search on the padded layout; Balls as in
+/// fused_query.hpp.
+template <class P, int L, class Balls>
 class fused_lanes_padded {
  public:
   static_assert(L == 16 || L == 32, "fused_lanes_padded: 16 or 32 lanes");
   using T = float;
-  using heap_type = distance_radix_heap<T>;
+  using heap_type = distance_heap<T>;
+  using dkey = distance_key<T>;
   static constexpr int lanes = L;
   static constexpr int K = P::neighbours;
   static constexpr int KV = (K + 3) / 4 * 4;
@@ -125,11 +100,14 @@ class fused_lanes_padded {
     return 4 * sizeof(block) + sizeof(counts) + 2 * (sizeof(char) + sizeof(label_t));
   }
 
-  fused_lanes_padded(const P& p, const padded_grid<P>& g, const piecewise_tables<P>* pw = nullptr)
+  /// @p avx512: whether the search may use AVX-512 where the CPU has it (else SSE2; the same bits).
+  fused_lanes_padded(const P& p, const padded_grid<P>& g, const Balls* pw, bool avx512)
       : p_(p), g_(g), pw_(pw), key_(g.size()), rec_(g.size()) {
     for (int k = 0; k < KV; ++k) delta_[k] = k < K ? g.delta()[k] : 0, len_[k] = k < K ? g.length()[k] : T(0);
-#ifdef GEOVORONOI_LANES_AVX512
-    wide_ = lanes_avx512_enabled() && __builtin_cpu_supports("avx512f");
+#ifdef GEOVORONOI_SIMD_AVX512
+    wide_ = avx512 && __builtin_cpu_supports("avx512f");
+#else
+    (void)avx512;
     // a lane's facet count is at most 2 Dim times its cell's size: 32-bit lanes hold it below 2^31 / 6 voxels
     wide_facets_ = p.geometry.size() < (index_t(1) << 28);
 #endif
@@ -138,12 +116,9 @@ class fused_lanes_padded {
       fill(key_[w], in[w].bound);
       rec_[w] = {in[w].bound, in[w].label, T(0), untouched};
     }
-    for (index_t z = 0; z < g.extent(2); ++z)
-      for (index_t y = 0; y < g.extent(1); ++y) {
-        const index_t o = g.extent(0) * (y + g.extent(1) * z);
-        rec* row = rec_.data() + g.pad(0, y, z);
-        for (index_t x = 0; x < g.extent(0); ++x) row[x].field = p.field[o + x];
-      }
+    g.for_each_row([&](index_t o, index_t w, index_t n) {
+      for (index_t x = 0; x < n; ++x) rec_[std::size_t(w + x)].field = p.field[o + x];
+    });
   }
 
   std::size_t bytes() const noexcept {
@@ -170,7 +145,7 @@ class fused_lanes_padded {
     flush_counts(n, acc, visited);
     if (laplace) {
       sort_touched();  // the facet pass and the reset then sweep memory in address order
-#ifdef GEOVORONOI_LANES_AVX512
+#ifdef GEOVORONOI_SIMD_AVX512
       if (wide_ && wide_facets_)
         facets_avx512(n, faces, acc, any_facet);
       else
@@ -208,7 +183,7 @@ class fused_lanes_padded {
     if (pv == untouched) touched_.push_back(v);
     if (pv < T(0) || m < pv) {
       rec_[v].pend = m;
-      heap_.push(m, v);
+      heap_.push(dkey::make(m), v);
       if (++live > heap_peak_) heap_peak_ = live;
     }
   }
@@ -272,7 +247,7 @@ class fused_lanes_padded {
       const auto it = heap_.pop();
       --live;
       v = it.voxel;
-      if (rec_[v].pend == heap_type::value(it.key)) break;  // else stale: queued lower since, or processed
+      if (rec_[v].pend == dkey::distance(it.key)) break;  // else stale: queued lower since, or processed
     }
     rec_[v].pend = idle;
     const rec* fld = rec_.data();
@@ -312,7 +287,7 @@ class fused_lanes_padded {
   }
 
   void search(std::size_t& live) {
-#ifdef GEOVORONOI_LANES_AVX512
+#ifdef GEOVORONOI_SIMD_AVX512
     if (wide_) return search_avx512(live);
 #endif
     const rec* in = rec_.data();
@@ -341,7 +316,7 @@ class fused_lanes_padded {
           // the single search's two tests, dv < ku and fl(dv + w) < ku (false for NaN): the first one
           // matters where w < 0, which the built-in metrics give only toward voxels outside the domain
           const __m128 old = _mm_load_ps(ku + 4 * i);
-          c[i] = _mm_add_ps(kv[i], wk);
+          c[i] = extend(kv[i], wk);
           lt[i] = _mm_and_ps(_mm_cmplt_ps(kv[i], old), _mm_cmplt_ps(c[i], old));
           any |= _mm_movemask_ps(lt[i]);
         }
@@ -364,7 +339,7 @@ class fused_lanes_padded {
     }
   }
 
-#ifdef GEOVORONOI_LANES_AVX512
+#ifdef GEOVORONOI_SIMD_AVX512
   /// The least of 16 floats (none NaN). Written with the masked forms, whose pass-through operand is
   /// given: GCC 12's unmasked ones (and _mm512_mask_reduce_min_ps) pass an undefined vector that
   /// -Wmaybe-uninitialized reports.
@@ -405,7 +380,7 @@ class fused_lanes_padded {
         unsigned any = 0;
         for (int z = 0; z < NZ; ++z) {
           old[z] = _mm512_load_ps(ku + 16 * z);
-          c[z] = _mm512_add_ps(kv[z], wk);
+          c[z] = extend(kv[z], wk);
           lt[z] = __mmask16(_mm512_cmp_ps_mask(kv[z], old[z], _CMP_LT_OQ) & _mm512_cmp_ps_mask(c[z], old[z], _CMP_LT_OQ));
           any |= lt[z];
         }
@@ -451,7 +426,7 @@ class fused_lanes_padded {
       g_.for_each_labelled_face(v, ft, [&](int i, index_t w, label_t k, T bw) {
         unsigned pair = cell_v & ~members(std::uint32_t(w), bw);  // lanes with v in the cell and w not
         if (!pair) return;
-        const T cvw = p_.metric(p_.edges.length[ft.edge[i]], fv, rec_[std::size_t(w)].field);
+        const T cvw = edge_weight(p_.metric, p_.edges.length[ft.edge[i]], fv, rec_[std::size_t(w)].field);
         const T dw = g_.diagram_distance(w, bw);
         while (pair) {
           const int j = __builtin_ctz(pair);
@@ -460,14 +435,13 @@ class fused_lanes_padded {
           a.touch(k);
           ++a.faces[k][ft.axis[i]];
           any_facet[j] = true;
-          T h = key_[v].k[j] + cvw;
-          h = h + dw;
+          const T h = extend(extend(key_[v].k[j], cvw), dw);
           if (double(h) < a.h[k]) a.h[k] = double(h);
         }
       });
     }
   }
-#ifdef GEOVORONOI_LANES_AVX512
+#ifdef GEOVORONOI_SIMD_AVX512
   /**
    * The same facet pairs with 16 lanes per AVX-512 register: for a face (v, w) the lanes with v in
    * their cell and w not form a mask, h = (key + c(v, w)) + d(w) is the same two IEEE additions per
@@ -531,11 +505,11 @@ class fused_lanes_padded {
               _mm512_store_si512(facet_count_[3 * o + std::size_t(a)].k + 16 * z, _mm512_setzero_si512());
           }
         }
-        const T cvw = p_.metric(p_.edges.length[ft.edge[i]], fv, rec_[std::size_t(w)].field);
+        const T cvw = edge_weight(p_.metric, p_.edges.length[ft.edge[i]], fv, rec_[std::size_t(w)].field);
         const T dw = g_.diagram_distance(w, bw);
         float* c = facet_count_[3 * o + std::size_t(ft.axis[i])].k;
         for (int z = 0; z < NZ; ++z) {
-          const __m512 h = _mm512_add_ps(_mm512_add_ps(kv[z], _mm512_set1_ps(cvw)), _mm512_set1_ps(dw));
+          const __m512 h = extend(extend(kv[z], _mm512_set1_ps(cvw)), _mm512_set1_ps(dw));
           const __m512 best = _mm512_load_ps(facet_h_[o].k + 16 * z);
           _mm512_store_ps(facet_h_[o].k + 16 * z, _mm512_mask_min_ps(best, pair[z], h, best));  // h < best ? h : best
           const __m512i count = _mm512_load_si512(c + 16 * z);
@@ -592,13 +566,12 @@ class fused_lanes_padded {
 
   const P& p_;
   const padded_grid<P>& g_;
-  const piecewise_tables<P>* pw_;
+  const Balls* pw_;
   std::vector<block> key_;
   // What the search reads of a voxel besides its keys, in one 16-byte record: the diagram's distance
   // (the keys' bound) and label (copies of the shared padded_grid's), the field, and the pending priority
   // (>= 0, or untouched / idle above). A row of three neighbours is then one cache line rather than
-  // one in each of three arrays (steak128 Sibson on two threads 3 % faster on average, in six of seven
-  // pairs, 2026-12-02).
+  // one in each of three arrays.
   struct alignas(16) rec {
     T bound;
     label_t label;
@@ -632,4 +605,4 @@ template <class P>
 struct fused_lanes_apply : std::false_type {};
 #endif
 
-}  // namespace geovoronoi::detail::shape
+}  // namespace geovoronoi::detail::search

@@ -1,38 +1,43 @@
 #pragma once
-// A monotone radix heap keyed on packed (distance bits, label) keys.
+// The monotone radix heap of every host search.
 //
 // Bucket b > 0 holds the items whose key first differs from the last extracted key at bit b-1;
 // bucket 0 holds keys equal to it. Extracting from an empty bucket 0 redistributes the lowest
 // non-empty bucket around its minimum, and every item moves to a strictly lower bucket each time, so
 // each item is touched O(key bits) times at most, and in practice about twice. Keys pushed must not
 // be smaller than the last extracted key (Dijkstra guarantees it for non-negative weights).
+//
+// One template, two instances: radix_heap<T> orders packed (distance, label) keys with 64-bit voxel
+// indices (the engines, the update); distance_heap<T> orders distances alone with 32-bit voxel
+// indices (the count-only insert-queries on the padded grid, 8-byte items for float).
 
 #include <geovoronoi/config.hpp>
-#include <geovoronoi/detail/key.hpp>
+#include <geovoronoi/detail/search/key.hpp>
 
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
-namespace geovoronoi::detail {
+namespace geovoronoi::detail::search {
 
-template <class T>
-class radix_heap {
+/// @tparam Key     key_traits<T> or distance_key<T>: key_type, bits, bucket(a, b).
+/// @tparam Payload the voxel index type carried by an item.
+template <class Key, class Payload>
+class basic_radix_heap {
  public:
-  using traits = key_traits<T>;
-  using key_type = typename traits::key_type;
+  using key_type = typename Key::key_type;
   struct item {
     key_type key;
-    index_t voxel;
+    Payload voxel;
   };
-  static constexpr int nbuckets = traits::bits + 1;
+  static constexpr int nbuckets = Key::bits + 1;
 
   bool empty() const noexcept { return size_ == 0; }
   std::size_t size() const noexcept { return size_; }
 
   /// @pre !(key < last extracted key)
-  void push(key_type key, index_t voxel) {
-    const int b = traits::bucket(key, last_);
+  void push(key_type key, Payload voxel) {
+    const int b = Key::bucket(key, last_);
     buckets_[b].push_back({key, voxel});
     mask_[b >> 6] |= std::uint64_t(1) << (b & 63);
     ++size_;
@@ -41,7 +46,7 @@ class radix_heap {
   /// Remove and return an item with the smallest key. @pre !empty()
   item pop() {
     if (buckets_[0].empty()) refill();
-    item x = buckets_[0].back();
+    const item x = buckets_[0].back();
     buckets_[0].pop_back();
     if (buckets_[0].empty()) mask_[0] &= ~std::uint64_t(1);
     --size_;
@@ -68,11 +73,10 @@ class radix_heap {
       }
     auto& src = buckets_[b];
     key_type m = src[0].key;
-    for (const auto& x : src)
-      if (x.key < m) m = x.key;
+    for (const auto& x : src) m = x.key < m ? x.key : m;
     last_ = m;
     for (const auto& x : src) {
-      const int nb = traits::bucket(x.key, last_);
+      const int nb = Key::bucket(x.key, last_);
       buckets_[nb].push_back(x);
       mask_[nb >> 6] |= std::uint64_t(1) << (nb & 63);
     }
@@ -87,4 +91,12 @@ class radix_heap {
   std::size_t size_ = 0;
 };
 
-}  // namespace geovoronoi::detail
+/// Packed (distance, label) keys, 64-bit voxel indices.
+template <class T>
+using radix_heap = basic_radix_heap<key_traits<T>, index_t>;
+
+/// Distances alone, 32-bit voxel indices (grids of fewer than 2^32 voxels).
+template <class T>
+using distance_heap = basic_radix_heap<distance_key<T>, std::uint32_t>;
+
+}  // namespace geovoronoi::detail::search

@@ -4,10 +4,10 @@
 // search visits, and emit their voxels in increasing index order. The scratch is a template
 // parameter (paged_keys, with the page size a parameter for the benchmarks).
 
-#include <geovoronoi/detail/key.hpp>
-#include <geovoronoi/detail/paged_scratch.hpp>
-#include <geovoronoi/detail/radix_heap.hpp>
-#include <geovoronoi/detail/dijkstra/engine.hpp>
+#include <geovoronoi/detail/search/key.hpp>
+#include <geovoronoi/detail/search/paged_scratch.hpp>
+#include <geovoronoi/detail/search/radix_heap.hpp>
+#include <geovoronoi/detail/search/engine.hpp>
 #include <geovoronoi/detail/overflow.hpp>
 #include <geovoronoi/result.hpp>
 
@@ -16,7 +16,7 @@
 #include <limits>
 #include <vector>
 
-namespace geovoronoi::detail::dijkstra {
+namespace geovoronoi::detail::search {
 
 /**
  * Keys in pages of 2^PageBits voxels (paged_scratch); field values read from the problem (copying
@@ -186,4 +186,4 @@ void insert_queries(const P& p, Keys& st, Heap& heap, const diagram<typename P::
   }
 }
 
-}  // namespace geovoronoi::detail::dijkstra
+}  // namespace geovoronoi::detail::search

@@ -5,21 +5,20 @@
 // in where keys are stored (a dense array, or scratch bounded by what is visited: the pages of
 // sparse.hpp) and in which relaxations they accept.
 
-#include <geovoronoi/detail/key.hpp>
-#include <geovoronoi/detail/radix_heap.hpp>
-#include <geovoronoi/detail/stencil_walk.hpp>
-#include <geovoronoi/error.hpp>
+#include <geovoronoi/detail/search/key.hpp>
+#include <geovoronoi/detail/search/radix_heap.hpp>
+#include <geovoronoi/detail/search/relax.hpp>
+#include <geovoronoi/detail/search/stencil_walk.hpp>
 #include <geovoronoi/metric.hpp>
 #include <geovoronoi/result.hpp>
 
 #include <algorithm>
 #include <limits>
-#include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
 
-namespace geovoronoi::detail::dijkstra {
+namespace geovoronoi::detail::search {
 
 /// One voxel of the dense solver's working array: its key and its field value side by side, so a
 /// relaxation touches one cache line per neighbour instead of two.
@@ -86,11 +85,6 @@ auto set_slot_key(N& node, const K& key) noexcept -> decltype(node.set_key(key))
   node.set_key(key);
 }
 
-[[noreturn]] inline void bad_weight(double w) {
-  throw metric_error("geovoronoi: the metric returned the edge weight " + std::to_string(w) +
-                     "; weights must be >= 0 and not NaN");
-}
-
 /// What a run reports besides its result, for the solves that watch (see solve_monitor): the run
 /// calls overflow() when it rejects a candidate whose distance is +inf (detail/overflow.hpp) and,
 /// when `watching`, tick(settled) every tick_mask + 1 settled voxels. The default watches nothing
@@ -136,9 +130,7 @@ std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept, Monitor&& mo
       if (!(it.key < ku)) return;
       const T fu = slot_field(st, slot, u);
       if (!detail::inside<typename P::metric_type>(fu)) return;
-      const T w = p.metric(p.edges.length[k], fv, fu);
-      if (!(w >= T(0))) bad_weight(double(w));
-      const T nd = dv + w;
+      const T nd = relax(p.metric, p.edges.length[k], dv, fv, fu);
       if (!accept(u, nd)) {
         // the unbounded solves reject nothing else: no cost on their hot path
         if (!(nd <= std::numeric_limits<T>::max())) mon.overflow();
@@ -194,4 +186,4 @@ std::size_t run_from_sources(const P& p, State& st, Heap& heap,
   return run(p, st, heap, [radius](index_t, T nd) { return nd < radius; }, mon);
 }
 
-}  // namespace geovoronoi::detail::dijkstra
+}  // namespace geovoronoi::detail::search

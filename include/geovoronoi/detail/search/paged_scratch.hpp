@@ -21,7 +21,7 @@
 #include <type_traits>
 #include <vector>
 
-namespace geovoronoi::detail {
+namespace geovoronoi::detail::search {
 
 template <class Value, int PageBits = 6>
 class paged_scratch {
@@ -136,4 +136,4 @@ class paged_scratch {
   index_t low_ = 0, high_ = 0;                     ///< lowest and highest page handed out since clear()
 };
 
-}  // namespace geovoronoi::detail
+}  // namespace geovoronoi::detail::search

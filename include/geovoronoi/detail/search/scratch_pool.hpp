@@ -1,11 +1,6 @@
 #pragma once
-// Worker scratch for host-parallel query loops under a memory budget, and the trait that says whether
-// a backend's insert-queries may run as fused host searches (fused_query.hpp).
-//
-// A backend opts in with a hook found by argument-dependent lookup on its policy type,
-//     std::true_type backend_queries_on_host(const Policy&);   // or std::false_type
-// (the sequential backend, and the Thrust backend on host systems). Other backends (CUDA) keep
-// running Sibson and Laplace through their batched insert_queries.
+// Worker scratch for host-parallel query loops under a memory budget: each task leases one worker's
+// scratch (the searches' key arrays are the size of the grid), at most as many as the budget holds.
 
 #include <geovoronoi/config.hpp>
 
@@ -18,13 +13,7 @@
 #include <utility>
 #include <vector>
 
-namespace geovoronoi::detail::shape {
-
-template <class Policy, class = void>
-struct queries_on_host : std::false_type {};
-template <class Policy>
-struct queries_on_host<Policy, std::void_t<decltype(backend_queries_on_host(std::declval<const Policy&>()))>>
-    : decltype(backend_queries_on_host(std::declval<const Policy&>())) {};
+namespace geovoronoi::detail::search {
 
 /**
  * At most @p limit scratch objects, created on demand and handed to tasks one at a time. A task that
@@ -105,4 +94,4 @@ class scratch_pool {
   std::vector<std::unique_ptr<S>> all_;
 };
 
-}  // namespace geovoronoi::detail::shape
+}  // namespace geovoronoi::detail::search

@@ -1,15 +1,17 @@
 #pragma once
-// Packed (distance, label) keys. For non-negative IEEE floats the bit pattern orders like the value,
-// so (bits(d) << 32 | label) compares exactly like the pair (d, label): the tie rule becomes one
-// integer comparison (and one atomicMin on devices).
+// The keys of every search. For non-negative IEEE floats the bit pattern orders like the value, so
+// (bits(d) << 32 | label) compares exactly like the pair (d, label): the tie rule (lowest node index
+// wins among equal distances) becomes one integer comparison, and one atomicMin on devices. Searches
+// that carry a single label (insert-query) order by the distance alone (distance_key).
 
 #include <geovoronoi/config.hpp>
 
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 
-namespace geovoronoi::detail {
+namespace geovoronoi::detail::search {
 
 template <class T>
 struct key_traits;
@@ -75,4 +77,30 @@ struct key_traits<double> {
   }
 };
 
-}  // namespace geovoronoi::detail
+/// Keys of the searches that carry one label: the bit pattern of a non-negative distance alone.
+template <class T>
+struct distance_key {
+  static_assert(sizeof(T) == 4 || sizeof(T) == 8, "distance_key: T must be float or double");
+  using key_type = std::conditional_t<sizeof(T) == 4, std::uint32_t, std::uint64_t>;
+  static constexpr int bits = int(sizeof(key_type) * 8);
+  static key_type make(T d) noexcept {
+    key_type b;
+    std::memcpy(&b, &d, sizeof b);
+    return b;
+  }
+  static T distance(key_type k) noexcept {
+    T d;
+    std::memcpy(&d, &k, sizeof d);
+    return d;
+  }
+  /// 0 if equal, else 1 + index of the highest differing bit (radix-heap bucket).
+  static int bucket(key_type a, key_type b) noexcept {
+    if (a == b) return 0;
+    if constexpr (sizeof(key_type) == 4)
+      return 32 - __builtin_clz(a ^ b);
+    else
+      return 64 - __builtin_clzll(a ^ b);
+  }
+};
+
+}  // namespace geovoronoi::detail::search

@@ -1,9 +1,10 @@
 #pragma once
-// Fused count-only insert-query for Sibson and Laplace on the host (host backends: seq and the Thrust
-// host systems). The search from a query q is the same pruned Dijkstra as the engines' insert-query
-// (it enters v only if d_q(v) < d(v)), with the same float expression for every relaxation, so it
-// finds the same new cell C_q and the same d_q on it, bit for bit. But instead of materialising the
-// cell (voxel, distance, owner), sorting it and re-reading it, it counts while it goes:
+// The count-only insert-query on the grid's own layout: the host path of Sibson and Laplace for
+// problems whose padded grid does not fit 32-bit indices (fused_padded.hpp and fused_lanes.hpp are
+// the paths for the others). The search from a query q is the engines' pruned Dijkstra (it enters v
+// only if d_q(v) < d(v)) with the same relaxation step (relax.hpp), so it finds the same new cell C_q
+// and the same d_q on it, bit for bit. Instead of materialising the cell (voxel, distance, owner),
+// sorting it and re-reading it, it counts while it goes:
 //
 //  * Sibson: each settled voxel adds one to its owner's volume.
 //  * Laplace: a facet pair (v in C_q, w not in C_q) can only be decided once the search has ended,
@@ -11,35 +12,30 @@
 //    C_q iff its key fell below its initial bound. The pass runs over the cell list the search kept
 //    (it needs it anyway to reset its keys).
 //
-// Scratch: one dense key array of the grid's size per worker (distance only, not (distance, label):
-// insert-query carries one label, so comparing distances is comparing the engines' keys), reset
-// through the cell list, the radix heap and the cell list. Nothing is allocated per query once the
-// vectors have grown.
+// Scratch: one dense key array of the grid's size per worker (distance only: insert-query carries one
+// label, so comparing distances is comparing the engines' keys), reset through the cell list, the
+// radix heap and the cell list. Nothing is allocated per query once the vectors have grown.
+//
+// Balls: the exact balls of piecewise-constant regions (shape/piecewise.hpp's piecewise_tables, or
+// any type with extent(axis) and for_each_ball_voxel(q, row_of, f)); a null table searches every voxel.
 
 #include <geovoronoi/config.hpp>
-#include <geovoronoi/detail/key.hpp>
-#include <geovoronoi/detail/radix_heap.hpp>
-#include <geovoronoi/detail/shape/common.hpp>
-#include <geovoronoi/detail/shape/piecewise.hpp>
-#include <geovoronoi/detail/stencil_walk.hpp>
-#include <geovoronoi/error.hpp>
+#include <geovoronoi/detail/search/cell_counts.hpp>
+#include <geovoronoi/detail/search/key.hpp>
+#include <geovoronoi/detail/search/radix_heap.hpp>
+#include <geovoronoi/detail/search/relax.hpp>
+#include <geovoronoi/detail/search/stencil_walk.hpp>
 #include <geovoronoi/metric.hpp>
 
 #include <algorithm>
 #include <cstddef>
 #include <limits>
-#include <string>
 #include <vector>
 
-namespace geovoronoi::detail::shape {
-
-[[noreturn]] inline void fused_bad_weight(double w) {
-  throw metric_error("geovoronoi: the metric returned the edge weight " + std::to_string(w) +
-                     "; weights must be >= 0 and not NaN");
-}
+namespace geovoronoi::detail::search {
 
 /// One worker's scratch for fused queries on problem P.
-template <class P>
+template <class P, class Balls>
 class fused_query {
  public:
   using T = typename P::value_type;
@@ -49,7 +45,7 @@ class fused_query {
   static std::size_t dense_bytes(const P& p) { return std::size_t(p.geometry.size()) * sizeof(slot); }
 
   /// @p pw: tables for the exact balls of piecewise-constant regions (piecewise.hpp), or null.
-  fused_query(const P& p, const T* dist, const label_t* lab, const piecewise_tables<P>* pw = nullptr)
+  fused_query(const P& p, const T* dist, const label_t* lab, const Balls* pw = nullptr)
       : p_(p), walk_(p), dist_(dist), lab_(lab), pw_(pw), key_(std::size_t(p.geometry.size())) {
     const index_t n = p.geometry.size();
     for (index_t v = 0; v < n; ++v) key_[std::size_t(v)] = {bound(v), p.field[v]};
@@ -118,9 +114,7 @@ class fused_query {
         slot& su = key[u];
         const T ku = su.key;
         if (!(dv < ku)) return;  // settled, out of reach, or outside the domain (bound 0)
-        const T w = p_.metric(p_.edges.length[k], fv, su.field);
-        if (!(w >= T(0))) fused_bad_weight(double(w));
-        const T nd = dv + w;
+        const T nd = relax(p_.metric, p_.edges.length[k], dv, fv, su.field);
         if (nd < ku) {
           su.key = nd;
           heap_.push(kt::make(nd, 0), u);
@@ -158,26 +152,9 @@ class fused_query {
   bool facets(const std::vector<face<P::dim>>& faces, accumulators& acc) const {
     bool any_facet = false;
     const slot* key = key_.data();
-    for (index_t v : cell_) {
-      const auto c = p_.geometry.coords(v);
-      const T fv = p_.field[v];
-      const T dq = key[v].key;
-      for (const auto& f : faces) {
-        if (!face_in_grid(p_, v, c, f)) continue;
-        const index_t w = v + f.delta;
-        if (!p_.inside(w)) continue;
-        const label_t k = lab_[w];
-        if (k == no_label) continue;
-        if (key[w].key < bound(w)) continue;  // w is in the cell too
-        acc.touch(k);
-        ++acc.faces[k][f.axis];
-        any_facet = true;
-        const T cvw = p_.metric(p_.edges.length[f.edge], fv, p_.field[w]);
-        T h = dq + cvw;
-        h = h + dist_[w];
-        if (double(h) < acc.h[k]) acc.h[k] = double(h);
-      }
-    }
+    auto in_cell = [&](index_t w, const face<P::dim>&) { return key[w].key < bound(w); };
+    for (index_t v : cell_)
+      if (add_facets(p_, v, key[v].key, faces, lab_, dist_, in_cell, acc)) any_facet = true;
     return any_facet;
   }
 
@@ -185,11 +162,11 @@ class fused_query {
   stencil_walker<P::dim> walk_;
   const T* dist_;
   const label_t* lab_;
-  const piecewise_tables<P>* pw_;
+  const Balls* pw_;
   std::vector<slot> key_;
   std::vector<index_t> cell_;
   radix_heap<T> heap_;
   std::size_t heap_peak_ = 0;
 };
 
-}  // namespace geovoronoi::detail::shape
+}  // namespace geovoronoi::detail::search

@@ -1,15 +1,15 @@
 #pragma once
 // Visiting the in-grid neighbours of a voxel on the implicit grid graph, with a fast path for voxels
-// away from the border (no per-neighbour bounds checks). The one walker of the library: the shared
-// Dijkstra engine, the parent image and the Thrust backend's expansion functors (host and device)
-// all use it.
+// away from the border (no per-neighbour bounds checks). The one walker of the library: the engines,
+// the parent rule, the update, the shape functions' searches on the grid's own layout and the Thrust
+// backend's expansion functors (host and device) all use it.
 
 #include <geovoronoi/config.hpp>
 #include <geovoronoi/cut.hpp>
 
 #include <cstdint>
 
-namespace geovoronoi::detail {
+namespace geovoronoi::detail::search {
 
 /// The grid's extents, decoded once; trivially copyable, so a device functor carries it by value.
 /// The stencil comes from the problem at each call.
@@ -30,10 +30,8 @@ struct stencil_walker {
   }
 
   /// Whether voxel @p v lies off the grid's border, so that v + delta[k] is its k-th neighbour for
-  /// every k (the test of for_each_neighbour's fast path). That loop keeps its own copy of the decoding:
-  /// sharing it through a helper changes the instructions GCC emits for the seq solve (1114 -> 1116 at
-  /// -O3), whose no-cut form docs/benchmarks.md compares instruction for instruction with the solve
-  /// from before cuts.
+  /// every k (the test of for_each_neighbour's fast path). That loop keeps its own copy of the decoding,
+  /// which is the seq solve's hot path: written once in a helper, GCC schedules it differently there.
   GEOVORONOI_HOST_DEVICE bool interior(index_t v) const {
     index_t x, y, z;
     if (small) {
@@ -51,7 +49,7 @@ struct stencil_walker {
   /// Calls f(k, u) for each in-grid neighbour u = v + offset k of @p p's stencil whose edge to @p v is
   /// not cut (for a problem with cuts; without, the cut test compiles away), in increasing k; the
   /// connectivity's offsets are in (z, y, x) lexicographic order, so the neighbours come in increasing
-  /// linear index (the parent rule of update.hpp takes the first realiser it meets as the lowest-index one).
+  /// linear index (the parent rule, parents.hpp, takes the first realiser it meets as the lowest-index one).
   template <class P, class F>
   GEOVORONOI_HOST_DEVICE void for_each_neighbour(const P& p, index_t v, F&& f) const {
     index_t x, y, z;
@@ -90,4 +88,4 @@ struct stencil_walker {
   }
 };
 
-}  // namespace geovoronoi::detail
+}  // namespace geovoronoi::detail::search
