@@ -6,7 +6,7 @@
 
 #include <geovoronoi/grid.hpp>
 
-#include "core_helpers.hpp"
+#include "support/core_helpers.hpp"
 
 #include <cmath>
 #include <random>

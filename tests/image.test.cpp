@@ -5,7 +5,7 @@
 
 #include <geovoronoi/image.hpp>
 
-#include "core_helpers.hpp"
+#include "support/core_helpers.hpp"
 
 #include <numeric>
 #include <type_traits>

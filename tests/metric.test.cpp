@@ -6,7 +6,7 @@
 
 #include <geovoronoi/metric.hpp>
 
-#include "core_helpers.hpp"
+#include "support/core_helpers.hpp"
 
 #include <algorithm>
 #include <cmath>

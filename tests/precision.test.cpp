@@ -6,8 +6,8 @@
 #include <geovoronoi.hpp>
 #include <geovoronoi/io/read.hpp>
 
-#include "core_helpers.hpp"
-#include "io_test_util.hpp"
+#include "support/core_helpers.hpp"
+#include "support/io_util.hpp"
 
 #include <limits>
 #include <vector>

@@ -5,7 +5,7 @@
 
 #include <geovoronoi/problem.hpp>
 
-#include "core_helpers.hpp"
+#include "support/core_helpers.hpp"
 
 #include <type_traits>
 #include <vector>

@@ -8,7 +8,7 @@
 
 #include <geovoronoi/shape_update.hpp>
 
-#include "shape_update_check.hpp"
+#include "support/shape_update_check.hpp"
 
 #include <string>
 #include <vector>

@@ -5,7 +5,7 @@
 
 #include <geovoronoi/update.hpp>
 
-#include "oracle.hpp"
+#include "support/oracle.hpp"
 
 #include <algorithm>
 #include <random>
@@ -249,7 +249,7 @@ TEST_CASE("update: a carving that keeps a voxel inside or removes a seed is refu
 }
 
 // ---- field edits, added voxels, node edits, and all of them together (update_edits.hpp) ----------
-#include "update_edits.hpp"
+#include "support/update_edits.hpp"
 
 namespace {
 template <class T, int Dim, int N>

@@ -7,8 +7,8 @@
 
 #include <geovoronoi.hpp>
 
-#include "core_helpers.hpp"
-#include "oracle.hpp"
+#include "support/core_helpers.hpp"
+#include "support/oracle.hpp"
 
 #include <random>
 #include <vector>

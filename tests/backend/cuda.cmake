@@ -1,12 +1,13 @@
 # CUDA backend tests.
-#  - test_cuda_tiling (tests/cuda_tiling.test.cpp, added by the *.test.cpp glob, g++ only): the
+#  - test_backend_cuda_detail_tiling (tests/backend/cuda/detail/tiling.test.cpp, added by the
+#    *.test.cpp glob, g++ only): the
 #    host-device arithmetic of the backend (tiles, halo slots, keys, worklist, query boxes). Built
 #    on every machine; it only needs the backend's include directory.
 #  - test_backend_cuda (tests/backend/cuda.cu, nvcc): the shared backend suite. Without a device it
 #    exits 77 and CTest reports it skipped.
-#  - test_cuda_tile_model (tests/cuda_tile_model.test.cpp, g++): the algorithm run on the host from
-#    the kernels' own per-voxel steps, against seq.
-foreach(t test_cuda_tiling test_cuda_tile_model)
+#  - test_backend_cuda_detail_tile_ops (tests/backend/cuda/detail/tile_ops.test.cpp, g++): the
+#    algorithm run on the host from the kernels' own per-voxel steps (tile_ops.hpp), against seq.
+foreach(t test_backend_cuda_detail_tiling test_backend_cuda_detail_tile_ops)
   if(TARGET ${t})
     target_include_directories(${t} PRIVATE ${PROJECT_SOURCE_DIR}/backends/cuda/include)
   endif()

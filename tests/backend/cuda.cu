@@ -9,7 +9,7 @@
 #include <geovoronoi.hpp>
 #include <geovoronoi/backend/cuda.cuh>
 
-#include "oracle.hpp"
+#include "support/oracle.hpp"
 
 #include <cuda_runtime.h>
 

@@ -7,7 +7,7 @@
 
 #include <doctest/doctest.h>
 
-#include "oracle.hpp"
+#include "support/oracle.hpp"
 
 #include <geovoronoi.hpp>
 
@@ -20,7 +20,7 @@
 
 namespace {
 namespace gv = geovoronoi;
-namespace eng = gv::detail::dijkstra;
+namespace eng = gv::detail::search;
 using namespace gvtest;
 
 template <class T, class Keys>

@@ -6,5 +6,5 @@
 
 #define GEOVORONOI_SHAPE_BACKEND_NAME "thrust_omp"
 #define GEOVORONOI_SHAPE_POLICY() ::geovoronoi::thrust::par_on(::thrust::omp::par)
-#include "shape/suite.hpp"
-#include "shape/versus_seq.hpp"
+#include "backend/shape/suite.hpp"
+#include "backend/shape/versus_seq.hpp"

@@ -14,7 +14,7 @@
 #define GEOVORONOI_TEST_UPDATE_POLICY() ::geovoronoi::thrust::par_on(::thrust::cpp::par)
 #endif
 
-#include "shape_update_check.hpp"
+#include "support/shape_update_check.hpp"
 
 TEST_CASE("shape update with a Thrust policy equals that policy's full computation after every edit") {
   const auto policy = GEOVORONOI_TEST_UPDATE_POLICY();

@@ -10,7 +10,7 @@
 
 #include <doctest/doctest.h>
 
-#include "oracle.hpp"
+#include "support/oracle.hpp"
 
 #include <geovoronoi/cut_from_mesh.hpp>
 

@@ -11,7 +11,7 @@
 #include <thrust/system/cpp/execution_policy.h>
 #include <thrust/system/cuda/execution_policy.h>
 
-#include "oracle.hpp"
+#include "support/oracle.hpp"
 
 namespace gvcuda {
 namespace gv = geovoronoi;

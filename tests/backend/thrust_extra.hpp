@@ -5,7 +5,7 @@
 
 #include <doctest/doctest.h>
 
-#include "oracle.hpp"
+#include "support/oracle.hpp"
 
 #include <atomic>
 #include <limits>
@@ -154,7 +154,7 @@ TEST_CASE("thrust " GEOVORONOI_TEST_BACKEND_NAME ": the label repair restores co
       const gv::label_t from = label[x], to = label_t_other(from, gv::label_t(seeds.size()));
       std::vector<gv::index_t> todo{x};
       label[x] = to;
-      const gv::detail::stencil_walker<3> walk(p);
+      const gv::detail::search::stencil_walker<3> walk(p);
       while (!todo.empty()) {
         const gv::index_t u = todo.back();
         todo.pop_back();

@@ -11,7 +11,7 @@
 #define GEOVORONOI_TEST_UPDATE_POLICY() ::geovoronoi::thrust::par_on(::thrust::cpp::par)
 #endif
 
-#include "update_edits.hpp"
+#include "support/update_edits.hpp"
 
 TEST_CASE("update with a Thrust policy equals that policy's full solve after every edit") {
   const auto policy = GEOVORONOI_TEST_UPDATE_POLICY();

@@ -1,7 +1,7 @@
 // io/stl.hpp, io/obj.hpp, io/mesh.hpp: ASCII and binary STL, OBJ, and their errors.
 #include <geovoronoi/io/mesh.hpp>
 
-#include "io_test_util.hpp"
+#include "support/io_util.hpp"
 
 #include <cmath>
 #include <cstring>

@@ -1,6 +1,6 @@
 // MetaImage: round trips of every element type (.mhd and .mha, both byte orders, compressed),
 // channels interleaved and planar, hand-written SOFA and ITK style headers, and bad files.
-#include "io_test_util.hpp"
+#include "support/io_util.hpp"
 
 #include <geovoronoi/io/metaimage.hpp>
 

@@ -1,6 +1,6 @@
 // NumPy .npy: round trips of every element type and shape order, hand-written headers (Fortran
 // order, big-endian, bool, version 2.0), and bad files.
-#include "io_test_util.hpp"
+#include "support/io_util.hpp"
 
 #include <geovoronoi/io/npy.hpp>
 

@@ -1,6 +1,6 @@
 // PNG writer: the file is a PNG of the picture's size whose pixels decode back (when zlib is at
 // hand), and write errors name the file.
-#include "io_test_util.hpp"
+#include "support/io_util.hpp"
 
 #include <geovoronoi/io/png.hpp>
 

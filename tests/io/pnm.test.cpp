@@ -1,5 +1,5 @@
 // PGM/PPM import: P2, P3, P5, P6 (8 and 16 bit), comments, channel choice, extrusion, bad files.
-#include "io_test_util.hpp"
+#include "support/io_util.hpp"
 
 #include <geovoronoi/io/pnm.hpp>
 #include <geovoronoi/io/read.hpp>

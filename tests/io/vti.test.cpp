@@ -1,6 +1,6 @@
 // VTK XML ImageData writer: the XML says what ParaView needs, and the bytes of every array can be
 // found again (appended raw and inline base64).
-#include "io_test_util.hpp"
+#include "support/io_util.hpp"
 
 #include <geovoronoi/io/vti.hpp>
 

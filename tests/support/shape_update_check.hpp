@@ -11,7 +11,7 @@
 
 #include <geovoronoi/shape_update.hpp>
 
-#include "update_edits.hpp"
+#include "support/update_edits.hpp"
 
 #include <array>
 #include <cstddef>

@@ -9,7 +9,7 @@
 
 #include <geovoronoi/update.hpp>
 
-#include "oracle.hpp"
+#include "support/oracle.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -75,9 +75,9 @@ void lanes_case(std::mt19937_64& rng, const P& p, const std::string& what) {
 #ifdef GEOVORONOI_FUSED_LANES
     {
       // the SSE2 lanes (the default is AVX-512 where the CPU has it)
-      sh::lanes_avx512_switch() = false;
+      o.tuning.avx512 = false;
       const auto narrow = gv::shape_functions(GEOVORONOI_SHAPE_POLICY(), p, d, o);
-      sh::lanes_avx512_switch() = true;
+      o.tuning.avx512 = true;
       CHECK(a.node == narrow.node);
       CHECK(std::memcmp(a.weight.data(), narrow.weight.data(), a.weight.size() * sizeof(a.weight[0])) == 0);
     }
@@ -85,11 +85,10 @@ void lanes_case(std::mt19937_64& rng, const P& p, const std::string& what) {
     for (const int width : {16, 32})
       for (const bool avx512 : {true, false}) {
         INFO("lanes " << width << (avx512 ? " AVX-512" : " SSE2"));
-        sh::lanes_width_switch() = width;
-        sh::lanes_avx512_switch() = avx512;
+        o.tuning.lanes = width;
+        o.tuning.avx512 = avx512;
         const auto w = gv::shape_functions(GEOVORONOI_SHAPE_POLICY(), p, d, o);
-        sh::lanes_width_switch() = 0;
-        sh::lanes_avx512_switch() = true;
+        o.tuning = gv::search_tuning{};
         CHECK(a.node == w.node);
         CHECK(std::memcmp(a.weight.data(), w.weight.data(), a.weight.size() * sizeof(a.weight[0])) == 0);
       }

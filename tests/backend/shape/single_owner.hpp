@@ -15,7 +15,7 @@ std::vector<T> zero_cost_field(std::mt19937_64& rng, gv::index_t n) {
 }
 
 struct single_owner_totals {
-  std::size_t rows = 0, written = 0, cases = 0;
+  std::size_t rows = 0, written = 0, restricted = 0, cases = 0;
 };
 
 /// Sibson on @p p with the filter (short searches capped at 256 pops, and at 0: every reached query
@@ -25,7 +25,6 @@ struct single_owner_totals {
 template <class P>
 void single_owner_case(std::mt19937_64& rng, const P& p, int seeds, const std::string& what,
                        single_owner_totals& totals) {
-  namespace sh = gv::detail::shape;
   using T = typename P::value_type;
   const auto s = random_seeds(rng, p, seeds);
   if (s.size() < 2) return;
@@ -48,7 +47,7 @@ void single_owner_case(std::mt19937_64& rng, const P& p, int seeds, const std::s
   o.skip_single_owner_rows = true;
   for (const std::size_t pops : {std::size_t(256), std::size_t(0)}) {
     INFO(what << ", short searches of at most " << pops << " pops, K " << k);
-    sh::single_owner_max_pops() = pops;
+    o.tuning.single_owner_pops = pops;
     gv::shape_stats st;
     o.stats = &st;
     const auto w = gv::shape_functions(GEOVORONOI_SHAPE_POLICY(), p, d, o);
@@ -57,6 +56,7 @@ void single_owner_case(std::mt19937_64& rng, const P& p, int seeds, const std::s
     CHECK(std::memcmp(w.weight.data(), plain.weight.data(), w.weight.size() * sizeof(T)) == 0);
     totals.rows += std::size_t(p.geometry.size());
     totals.written += st.single_owner_rows;
+    totals.restricted += st.single_owner_restricted;
     ++totals.cases;
     const auto at = gv::shape_functions_at(GEOVORONOI_SHAPE_POLICY(), p, d, box, o);
     bool same = true;
@@ -68,15 +68,12 @@ void single_owner_case(std::mt19937_64& rng, const P& p, int seeds, const std::s
       }
     CHECK(same);
   }
-  sh::single_owner_max_pops() = 256;
 }
 
 TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: Sibson rows of queries whose new cell stays in "
           "their own cell, written without a search, equal the searched rows bit for bit") {
-  namespace sh = gv::detail::shape;
   std::mt19937_64 rng(20261203);
   single_owner_totals totals;
-  const std::size_t restricted_before = sh::single_owner_restricted_count().load();
   for (int trial = 0; trial < 2; ++trial) {
     const bool ties = trial == 0;  // exact ties everywhere (levels 1, 2, 4), then a continuous field
     {
@@ -113,7 +110,7 @@ TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: Sibson rows of q
                         "2D mean_stiffness 4", totals);
     }
   }
-  const std::size_t restricted = sh::single_owner_restricted_count().load() - restricted_before;
+  const std::size_t restricted = totals.restricted;
   MESSAGE("rows written without a search: " << totals.written << " of " << totals.rows << " (" << restricted
                                              << " decided on restricted bounds)");
   // the comparisons above did exercise both ways of deciding

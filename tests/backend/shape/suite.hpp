@@ -8,7 +8,7 @@
 
 #include <doctest/doctest.h>
 
-#include "oracle.hpp"
+#include "support/oracle.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -524,6 +524,6 @@ TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: bad inputs and c
 
 }  // namespace gvshape
 
-#include "shape/piecewise_and_points.hpp"
-#include "shape/fast_path.hpp"
-#include "shape/single_owner.hpp"
+#include "backend/shape/piecewise_and_points.hpp"
+#include "backend/shape/fast_path.hpp"
+#include "backend/shape/single_owner.hpp"

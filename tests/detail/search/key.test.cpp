@@ -1,10 +1,10 @@
-// Tests of geovoronoi/detail/key.hpp: packed (distance, label) keys order exactly like the pair for
+// Tests of geovoronoi/detail/search/key.hpp: packed (distance, label) keys order exactly like the pair for
 // non-negative distances (float and double), round-trip their parts, and the radix-heap bucket of two
 // keys is 1 + the highest differing bit.
 
 #include <doctest/doctest.h>
 
-#include <geovoronoi/detail/key.hpp>
+#include <geovoronoi/detail/search/key.hpp>
 
 #include <cmath>
 #include <limits>
@@ -13,7 +13,7 @@
 
 namespace {
 namespace gv = geovoronoi;
-namespace gd = geovoronoi::detail;
+namespace gd = geovoronoi::detail::search;
 
 template <class T>
 std::vector<T> sample_distances(std::mt19937_64& rng) {

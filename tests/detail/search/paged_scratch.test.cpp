@@ -1,10 +1,10 @@
-// Tests of geovoronoi/detail/paged_scratch.hpp against a std::map model: random touches and writes
+// Tests of geovoronoi/detail/search/paged_scratch.hpp against a std::map model: random touches and writes
 // over grids whose size is and is not a multiple of the page, fills, look-ups, sorted page walks
 // (the grid's last, partial page included), clear() between searches and prepare() for other sizes.
 
 #include <doctest/doctest.h>
 
-#include <geovoronoi/detail/paged_scratch.hpp>
+#include <geovoronoi/detail/search/paged_scratch.hpp>
 
 #include <algorithm>
 #include <cstdint>
@@ -21,7 +21,7 @@ std::uint64_t filled(gv::index_t v, std::uint64_t search) { return std::uint64_t
 
 template <int Bits>
 void random_searches(std::uint64_t seed) {
-  using scratch_t = gv::detail::paged_scratch<std::uint64_t, Bits>;
+  using scratch_t = gv::detail::search::paged_scratch<std::uint64_t, Bits>;
   constexpr gv::index_t page = scratch_t::page_size;
   std::mt19937_64 rng(seed);
   scratch_t s;
@@ -95,7 +95,7 @@ TEST_CASE("paged_scratch: equals a map model over random searches, pages of 1, 4
 }
 
 TEST_CASE("paged_scratch: a page is filled again in the next search, not reused stale") {
-  gv::detail::paged_scratch<int, 3> s;
+  gv::detail::search::paged_scratch<int, 3> s;
   s.prepare(20);
   int fills = 0;
   auto fill = [&](gv::index_t first, int* values, gv::index_t count) {
@@ -134,7 +134,7 @@ TEST_CASE("paged_scratch: a page is filled again in the next search, not reused 
 }
 
 TEST_CASE("paged_scratch: memory held follows the pages handed out, not the grid") {
-  gv::detail::paged_scratch<std::uint64_t, 6> s;
+  gv::detail::search::paged_scratch<std::uint64_t, 6> s;
   const gv::index_t n = gv::index_t(1) << 24;  // 16 Mi voxels: 2 MiB of table
   s.prepare(n);
   auto fill = [](gv::index_t, std::uint64_t* values, gv::index_t count) {
@@ -157,7 +157,7 @@ TEST_CASE("paged_scratch: memory held follows the pages handed out, not the grid
 
 TEST_CASE("paged_scratch: sorted walks of clustered and of scattered pages") {
   // clustered pages are walked through the table, scattered ones sorted: both give increasing order
-  gv::detail::paged_scratch<gv::index_t, 2> s;
+  gv::detail::search::paged_scratch<gv::index_t, 2> s;
   s.prepare(100000);
   auto fill = [](gv::index_t first, gv::index_t* values, gv::index_t count) {
     for (gv::index_t i = 0; i < count; ++i) values[i] = first + i;
@@ -179,7 +179,7 @@ TEST_CASE("paged_scratch: sorted walks of clustered and of scattered pages") {
 }
 
 TEST_CASE("paged_scratch: a negative size is rejected") {
-  gv::detail::paged_scratch<int> s;
+  gv::detail::search::paged_scratch<int> s;
   CHECK_THROWS_AS(s.prepare(-1), std::invalid_argument);
 }
 

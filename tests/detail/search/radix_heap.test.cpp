@@ -1,10 +1,10 @@
-// Tests of geovoronoi/detail/radix_heap.hpp: randomized monotone push/pop sequences against
+// Tests of geovoronoi/detail/search/radix_heap.hpp: randomized monotone push/pop sequences against
 // std::priority_queue, with float and double keys, exact ties (equal keys) and near ties (equal
 // distances, different labels; distances one ulp apart).
 
 #include <doctest/doctest.h>
 
-#include <geovoronoi/detail/radix_heap.hpp>
+#include <geovoronoi/detail/search/radix_heap.hpp>
 
 #include <cmath>
 #include <functional>
@@ -16,7 +16,7 @@
 
 namespace {
 namespace gv = geovoronoi;
-namespace gd = geovoronoi::detail;
+namespace gd = geovoronoi::detail::search;
 
 template <class T>
 T next_distance(std::mt19937_64& rng, T last) {

@@ -1,10 +1,10 @@
-// Tests of geovoronoi/detail/stencil_walk.hpp: the neighbours it visits (interior fast path and
+// Tests of geovoronoi/detail/search/stencil_walk.hpp: the neighbours it visits (interior fast path and
 // border path) are exactly the in-grid voxels at the connectivity's offsets, with the right stencil
 // index, on random small grids including one-voxel-thick ones.
 
 #include <doctest/doctest.h>
 
-#include <geovoronoi/detail/stencil_walk.hpp>
+#include <geovoronoi/detail/search/stencil_walk.hpp>
 #include <geovoronoi/problem.hpp>
 
 #include <algorithm>
@@ -22,7 +22,7 @@ void check_walk(std::mt19937_64& rng) {
   const gv::grid<Dim> g(e);
   const std::vector<float> f(g.size(), 1.0f);
   const auto p = gv::make_problem(g, f, gv::uniform{}, gv::connectivity<N>{});
-  const gv::detail::stencil_walker<Dim> walk(p);
+  const gv::detail::search::stencil_walker<Dim> walk(p);
   constexpr auto offs = gv::connectivity<N>::offsets();
   for (gv::index_t v = 0; v < g.size(); ++v) {
     std::vector<std::pair<int, gv::index_t>> got, want;

@@ -3,11 +3,11 @@
 // computed once from voxel 0, at the absolute offset, bit for bit — checked against a search from
 // every q on small grids with anisotropic (also very anisotropic) spacing, every connectivity, 2D and
 // 3D, float and double. Its use inside Sibson / Laplace / Distance Ratio is checked against the
-// brute-force definition by the shape suite (tests/shape/suite.hpp).
+// brute-force definition by the shape suite (tests/backend/shape/suite.hpp).
 #include <doctest/doctest.h>
 #include <geovoronoi.hpp>
 
-#include "oracle.hpp"
+#include "support/oracle.hpp"
 
 #include <random>
 #include <string>

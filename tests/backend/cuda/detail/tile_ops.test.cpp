@@ -11,7 +11,7 @@
 #include <geovoronoi.hpp>
 #include <geovoronoi/backend/cuda/detail/tile_ops.hpp>
 
-#include "oracle.hpp"
+#include "support/oracle.hpp"
 
 #include <algorithm>
 #include <cstdint>

@@ -4,7 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <geovoronoi/backend/cuda/detail/tiling.hpp>
-#include <geovoronoi/detail/key.hpp>
+#include <geovoronoi/detail/search/key.hpp>
 #include <geovoronoi/grid.hpp>
 
 #include <limits>
@@ -91,7 +91,7 @@ TEST_CASE("cuda tiling: halo slots are a bijection onto the haloed box") {
 }
 
 TEST_CASE("cuda keys: packed keys match the core's key layout and order like (distance, label)") {
-  using kt = gv::detail::key_traits<float>;
+  using kt = gv::detail::search::key_traits<float>;
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> dist(0.0f, 100.0f);
   std::vector<std::pair<float, gv::label_t>> vals{{0.0f, 0}, {0.0f, 7}, {1.0f, 0}, {1.0f, 3},
