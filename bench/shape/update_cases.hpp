@@ -1,4 +1,4 @@
-// Shape functions after a change (shape_update.hpp, issue 14), written once; each backend's file
+// Shape functions after a change (shape_update.hpp), written once; each backend's file
 // registers them with its policy. Names: shape_update/<method>/<backend>/steak128/<edit>, and
 // shape_update/distance_ratio_kept/... for Distance Ratio computed with keep_update_state (the update
 // repairs the kept searches; its baseline full_cpu_s is still the plain computation, and

@@ -1,7 +1,6 @@
-# bench_voronoi_cpu: the seq and sofa_set cases in one executable (bench/voronoi/cpu.cpp holds main()).
-geovoronoi_add_bench(bench_voronoi_cpu ${CMAKE_CURRENT_LIST_DIR}/cpu.cpp ${CMAKE_CURRENT_LIST_DIR}/seq.cpp
-                     ${CMAKE_CURRENT_LIST_DIR}/sofa_set.cpp)
-target_compile_definitions(bench_voronoi_cpu PRIVATE GEOVORONOI_BENCH_COMBINED)
+# bench_voronoi_cpu: the seq and sofa_set cases in one executable, so speed-ups come from one run.
+geovoronoi_add_bench(bench_voronoi_cpu $<TARGET_OBJECTS:bench_voronoi_main> $<TARGET_OBJECTS:bench_voronoi_seq_cases>
+                     $<TARGET_OBJECTS:bench_voronoi_sofa_set_cases>)
 # one-off check (not timed): SOFA's set Dijkstra and the seq backend give bitwise-equal distances
 if(GEOVORONOI_BUILD_TESTS)
   add_test(NAME bench_sofa_set_matches_seq COMMAND bench_voronoi_cpu --checks_only)

@@ -15,7 +15,7 @@ GEOVORONOI_BENCH_REGISTER(register_seq_cases) {
 GEOVORONOI_BENCH_MAIN()
 #endif
 
-// ---- incremental update after a cut (issue 13) ----------------------------------------------------
+// ---- incremental update after a cut ---------------------------------------------------------------
 // The demo's problem: the steak phantom 128x96x32 (1 mm voxels), its 12 nodes on the mid slice,
 // 26-connected, min_stiffness. `voronoi/seq/steak128` is the full solve (with parents) of the problem
 // after the cut; `update/seq/steak128/cut20` updates the diagram before the cut (with parents) in

@@ -12,7 +12,7 @@ endif()
 if(TARGET geovoronoi::thrust_cuda)
   set(_gv_cu ${CMAKE_CURRENT_BINARY_DIR}/thrust_cuda_bench.cu)
   file(CONFIGURE OUTPUT ${_gv_cu} CONTENT "#include \"${CMAKE_CURRENT_LIST_DIR}/thrust.cpp\"\n")
-  geovoronoi_add_bench(bench_voronoi_thrust_cuda ${_gv_cu} ${CMAKE_CURRENT_LIST_DIR}/seq.cpp
+  geovoronoi_add_bench(bench_voronoi_thrust_cuda ${_gv_cu} $<TARGET_OBJECTS:bench_voronoi_seq_cases>
                        LIBS geovoronoi::thrust_cuda CUDA::cudart)
   target_compile_definitions(bench_voronoi_thrust_cuda PRIVATE GEOVORONOI_BENCH_COMBINED)
   set_target_properties(bench_voronoi_thrust_cuda PROPERTIES CUDA_ARCHITECTURES "${GEOVORONOI_CUDA_ARCHITECTURES}")

@@ -6,6 +6,7 @@
 #include <geovoronoi/config.hpp>
 #include <geovoronoi/connectivity.hpp>
 #include <geovoronoi/cut.hpp>
+#include <geovoronoi/detail/search/relax.hpp>
 #include <geovoronoi/error.hpp>
 #include <geovoronoi/grid.hpp>
 #include <geovoronoi/image.hpp>
@@ -85,7 +86,7 @@ struct problem : detail::cut_holder<Cuts> {
   GEOVORONOI_HOST_DEVICE bool inside(index_t v) const noexcept { return detail::inside<Metric>(field[v]); }
   /// Weight of the edge from @p from to its neighbour number @p n, @p to.
   GEOVORONOI_HOST_DEVICE T weight(index_t from, index_t to, int n) const noexcept {
-    return metric(edges.length[n], field[from], field[to]);
+    return detail::search::edge_weight(metric, edges.length[n], field[from], field[to]);
   }
 };
 

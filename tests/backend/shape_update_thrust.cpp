@@ -6,13 +6,8 @@
 #include <geovoronoi.hpp>
 #include <geovoronoi/backend/thrust.hpp>
 
-#ifdef GEOVORONOI_TEST_UPDATE_OMP
 #include <thrust/system/omp/execution_policy.h>
 #define GEOVORONOI_TEST_UPDATE_POLICY() ::geovoronoi::thrust::par_on(::thrust::omp::par)
-#else
-#include <thrust/system/cpp/execution_policy.h>
-#define GEOVORONOI_TEST_UPDATE_POLICY() ::geovoronoi::thrust::par_on(::thrust::cpp::par)
-#endif
 
 #include "support/shape_update_check.hpp"
 

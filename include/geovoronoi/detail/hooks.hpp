@@ -8,6 +8,9 @@
 //   backend_insert_queries(policy, problem, diagram, queries)                 new cells of query voxels
 //   backend_with_threads(policy, threads, f)                                  f() on that many host threads
 //   backend_host_parallel_for(policy, n, f)                                   f(i), i in [0, n), maybe concurrent
+//   backend_host_threads(policy) -> unsigned                                  threads that loop may use (default:
+//                                                                             the hardware's with a parallel
+//                                                                             loop, else 1)
 //   backend_queries_on_host(policy) -> std::true_type / std::false_type      whether Sibson and Laplace may
 //                                                                             run their insert-queries as
 //                                                                             host searches (search/fused_*)
@@ -82,6 +85,12 @@ struct has_host_parallel_for : std::false_type {};
 template <class Policy>
 struct has_host_parallel_for<Policy, std::void_t<decltype(backend_host_parallel_for(
                                          std::declval<const Policy&>(), index_t{}, parallel_for_probe{}))>>
+    : std::true_type {};
+
+template <class Policy, class = void>
+struct has_host_threads : std::false_type {};
+template <class Policy>
+struct has_host_threads<Policy, std::void_t<decltype(backend_host_threads(std::declval<const Policy&>()))>>
     : std::true_type {};
 
 /// Whether the backend's Sibson and Laplace insert-queries may run as host searches.

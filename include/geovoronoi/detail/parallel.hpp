@@ -5,6 +5,8 @@
 #include <geovoronoi/config.hpp>
 #include <geovoronoi/detail/hooks.hpp>
 
+#include <algorithm>
+#include <thread>
 #include <type_traits>
 #include <utility>
 
@@ -36,6 +38,19 @@ void host_parallel_for(const Policy& policy, index_t n, F&& f) {
   } else {
     (void)policy;
     for (index_t i = 0; i < n; ++i) f(i);
+  }
+}
+
+/// The host threads @p policy's host-parallel loop may use: its backend_host_threads hook, else the
+/// hardware's threads for a backend with a parallel loop, else 1.
+template <class Policy>
+unsigned host_threads(const Policy& policy) {
+  if constexpr (hooks::has_host_threads<Policy>::value) {
+    return backend_host_threads(policy);
+  } else {
+    (void)policy;
+    if constexpr (hooks::has_host_parallel_for<Policy>::value) return std::max(1u, std::thread::hardware_concurrency());
+    return 1u;
   }
 }
 

@@ -401,9 +401,7 @@ void fused_natural_neighbours(const Policy& policy, const P& p, const D& d, cons
       const std::size_t each16 = fused_lanes_worker_bytes<16>(p, nodes), each32 = fused_lanes_worker_bytes<32>(p, nodes);
       if (lanes && opt.memory_budget >= fixed + each16) {
         const std::size_t room = opt.memory_budget - fixed;
-        std::size_t threads = 1;
-        if constexpr (hooks::has_host_parallel_for<Policy>::value)
-          threads = std::max(1u, std::thread::hardware_concurrency());
+        const std::size_t threads = host_threads(policy);
         const int forced = opt.tuning.lanes;
         const bool wide = forced ? forced == 32 && room >= each32 : room / each32 >= std::min(room / each16, threads);
         auto run = [&](auto width) {

@@ -66,108 +66,113 @@ class piecewise_tables {
 
   template <class Policy>
   piecewise_tables(const Policy& policy, const P& p) {
-    // a cut breaks the constant-region balls (a ball may cross a cut): none with cuts, so empty()
-    if constexpr (P::has_cuts) return;
-    constexpr int Dim = P::dim;
-    using M = typename P::metric_type;
-    const index_t n = p.geometry.size();
-    for (int a = 0; a < 3; ++a) ext_[a] = a < Dim ? p.geometry.extent(a) : 1;
-    // classes: inside voxels by field bits; outside voxels share one class
-    auto cls = [&](index_t v) -> std::uint64_t {
-      const T f = p.field[v];
-      if (!detail::inside<M>(f)) return ~std::uint64_t(0);
-      std::uint64_t b = 0;
-      std::memcpy(&b, &f, sizeof(T));
-      return b;
-    };
-    // chessboard distance to B by a two-pass chamfer over the 3^Dim neighbourhood (exact for this metric)
-    constexpr std::uint16_t far = std::numeric_limits<std::uint16_t>::max();
-    m_.assign(std::size_t(n), far);
-    const index_t sx = 1, sy = ext_[0], sz = ext_[0] * ext_[1];
-    const int zr = Dim == 3 ? 1 : 0;
-    bool any_b = false;
-    for (index_t z = 0; z < ext_[2]; ++z)
-      for (index_t y = 0; y < ext_[1]; ++y)
-        for (index_t x = 0; x < ext_[0]; ++x) {
-          const index_t v = x * sx + y * sy + z * sz;
-          const std::uint64_t c = cls(v);
-          bool b = false;
-          for (int dz = -zr; dz <= zr && !b; ++dz)
-            for (int dy = -1; dy <= 1 && !b; ++dy)
-              for (int dx = -1; dx <= 1 && !b; ++dx) {
-                const index_t xx = x + dx, yy = y + dy, zz = z + dz;
+    // a cut breaks the constant-region balls (a ball may cross a cut): none with cuts, so empty(); the
+    // tables' solves are then not even compiled (they solve P's own type, without cuts)
+    if constexpr (P::has_cuts) {
+      (void)policy;
+      (void)p;
+    } else {
+      constexpr int Dim = P::dim;
+      using M = typename P::metric_type;
+      const index_t n = p.geometry.size();
+      for (int a = 0; a < 3; ++a) ext_[a] = a < Dim ? p.geometry.extent(a) : 1;
+      // classes: inside voxels by field bits; outside voxels share one class
+      auto cls = [&](index_t v) -> std::uint64_t {
+        const T f = p.field[v];
+        if (!detail::inside<M>(f)) return ~std::uint64_t(0);
+        std::uint64_t b = 0;
+        std::memcpy(&b, &f, sizeof(T));
+        return b;
+      };
+      // chessboard distance to B by a two-pass chamfer over the 3^Dim neighbourhood (exact for this metric)
+      constexpr std::uint16_t far = std::numeric_limits<std::uint16_t>::max();
+      m_.assign(std::size_t(n), far);
+      const index_t sx = 1, sy = ext_[0], sz = ext_[0] * ext_[1];
+      const int zr = Dim == 3 ? 1 : 0;
+      bool any_b = false;
+      for (index_t z = 0; z < ext_[2]; ++z)
+        for (index_t y = 0; y < ext_[1]; ++y)
+          for (index_t x = 0; x < ext_[0]; ++x) {
+            const index_t v = x * sx + y * sy + z * sz;
+            const std::uint64_t c = cls(v);
+            bool b = false;
+            for (int dz = -zr; dz <= zr && !b; ++dz)
+              for (int dy = -1; dy <= 1 && !b; ++dy)
+                for (int dx = -1; dx <= 1 && !b; ++dx) {
+                  const index_t xx = x + dx, yy = y + dy, zz = z + dz;
+                  if (xx < 0 || yy < 0 || zz < 0 || xx >= ext_[0] || yy >= ext_[1] || zz >= ext_[2]) continue;
+                  b = cls(xx * sx + yy * sy + zz * sz) != c;
+                }
+            if (b) m_[std::size_t(v)] = 0, any_b = true;
+          }
+      if (!any_b) return;  // one class: the whole problem is translation-invariant or outside
+      for (int pass = 0; pass < 2; ++pass) {
+        const int s = pass == 0 ? 1 : -1;
+        for (index_t i = 0; i < n; ++i) {
+          const index_t v = pass == 0 ? i : n - 1 - i;
+          const index_t z = v / sz, y = (v - z * sz) / sy, x = v - z * sz - y * sy;
+          std::uint32_t best = m_[std::size_t(v)];
+          // the half of the neighbourhood already visited in this pass's order
+          for (int dz = -zr; dz <= 0; ++dz)
+            for (int dy = -1; dy <= 1; ++dy)
+              for (int dx = -1; dx <= 1; ++dx) {
+                if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
+                const index_t xx = x + s * dx, yy = y + s * dy, zz = z + s * dz;
                 if (xx < 0 || yy < 0 || zz < 0 || xx >= ext_[0] || yy >= ext_[1] || zz >= ext_[2]) continue;
-                b = cls(xx * sx + yy * sy + zz * sz) != c;
+                best = std::min<std::uint32_t>(best, std::uint32_t(m_[std::size_t(xx * sx + yy * sy + zz * sz)]) + 1);
               }
-          if (b) m_[std::size_t(v)] = 0, any_b = true;
+          m_[std::size_t(v)] = std::uint16_t(std::min<std::uint32_t>(best, far - 1));
         }
-    if (!any_b) return;  // one class: the whole problem is translation-invariant or outside
-    for (int pass = 0; pass < 2; ++pass) {
-      const int s = pass == 0 ? 1 : -1;
-      for (index_t i = 0; i < n; ++i) {
-        const index_t v = pass == 0 ? i : n - 1 - i;
-        const index_t z = v / sz, y = (v - z * sz) / sy, x = v - z * sz - y * sy;
-        std::uint32_t best = m_[std::size_t(v)];
-        // the half of the neighbourhood already visited in this pass's order
-        for (int dz = -zr; dz <= 0; ++dz)
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-              if (dz == 0 && (dy > 0 || (dy == 0 && dx >= 0))) continue;
-              const index_t xx = x + s * dx, yy = y + s * dy, zz = z + s * dz;
-              if (xx < 0 || yy < 0 || zz < 0 || xx >= ext_[0] || yy >= ext_[1] || zz >= ext_[2]) continue;
-              best = std::min<std::uint32_t>(best, std::uint32_t(m_[std::size_t(xx * sx + yy * sy + zz * sz)]) + 1);
-            }
-        m_[std::size_t(v)] = std::uint16_t(std::min<std::uint32_t>(best, far - 1));
+      }
+      // the values worth a table: most voxels with m >= 2 first
+      struct stat {
+        std::size_t count = 0;
+        std::uint16_t max_m = 0;
+        T value{};
+      };
+      std::map<std::uint64_t, stat> stats;
+      for (index_t v = 0; v < n; ++v) {
+        if (m_[std::size_t(v)] < 2) continue;
+        const std::uint64_t c = cls(v);
+        if (c == ~std::uint64_t(0)) continue;
+        auto& s = stats[c];
+        ++s.count;
+        s.max_m = std::max(s.max_m, m_[std::size_t(v)]);
+        s.value = p.field[v];
+      }
+      std::vector<std::pair<std::uint64_t, stat>> order(stats.begin(), stats.end());
+      std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
+        return a.second.count > b.second.count || (a.second.count == b.second.count && a.first < b.first);
+      });
+      if (order.size() > std::size_t(max_tables)) order.resize(std::size_t(max_tables));
+      for (const auto& [bits, s] : order) {
+        coord<Dim> e{};
+        index_t te[3] = {1, 1, 1};
+        for (int a = 0; a < Dim; ++a) e[a] = te[a] = std::min<index_t>(ext_[a], index_t(s.max_m) + 1);
+        point<Dim> sp{};
+        for (int a = 0; a < Dim; ++a) sp[a] = p.geometry.spacing(a);
+        const grid<Dim> g(e, sp);
+        std::vector<T> f(std::size_t(g.size()), s.value);
+        const auto pf = make_problem(g, f, p.metric, typename P::connectivity_type{});
+        if (!translation_invariant(pf)) continue;
+        auto d = dispatch::solve(policy, pf, std::vector<source<T>>{{index_t(0), T(0), label_t(0)}},
+                                 std::numeric_limits<T>::infinity(), false);
+        table t;
+        t.L = std::move(d.distance.values());
+        for (int a = 0; a < 3; ++a) t.e[a] = te[a];
+        tables_.push_back(std::move(t));
+        bits_.push_back(bits);
+      }
+      if (tables_.empty()) return;
+      id_.assign(std::size_t(n), -1);
+      for (index_t v = 0; v < n; ++v) {
+        if (m_[std::size_t(v)] < 2) continue;
+        const std::uint64_t c = cls(v);
+        for (std::size_t t = 0; t < bits_.size(); ++t)
+          if (bits_[t] == c) id_[std::size_t(v)] = std::int8_t(t);
       }
     }
-    // the values worth a table: most voxels with m >= 2 first
-    struct stat {
-      std::size_t count = 0;
-      std::uint16_t max_m = 0;
-      T value{};
-    };
-    std::map<std::uint64_t, stat> stats;
-    for (index_t v = 0; v < n; ++v) {
-      if (m_[std::size_t(v)] < 2) continue;
-      const std::uint64_t c = cls(v);
-      if (c == ~std::uint64_t(0)) continue;
-      auto& s = stats[c];
-      ++s.count;
-      s.max_m = std::max(s.max_m, m_[std::size_t(v)]);
-      s.value = p.field[v];
-    }
-    std::vector<std::pair<std::uint64_t, stat>> order(stats.begin(), stats.end());
-    std::sort(order.begin(), order.end(), [](const auto& a, const auto& b) {
-      return a.second.count > b.second.count || (a.second.count == b.second.count && a.first < b.first);
-    });
-    if (order.size() > std::size_t(max_tables)) order.resize(std::size_t(max_tables));
-    for (const auto& [bits, s] : order) {
-      coord<Dim> e{};
-      index_t te[3] = {1, 1, 1};
-      for (int a = 0; a < Dim; ++a) e[a] = te[a] = std::min<index_t>(ext_[a], index_t(s.max_m) + 1);
-      point<Dim> sp{};
-      for (int a = 0; a < Dim; ++a) sp[a] = p.geometry.spacing(a);
-      const grid<Dim> g(e, sp);
-      std::vector<T> f(std::size_t(g.size()), s.value);
-      const auto pf = make_problem(g, f, p.metric, typename P::connectivity_type{});
-      if (!translation_invariant(pf)) continue;
-      auto d = dispatch::solve(policy, pf, std::vector<source<T>>{{index_t(0), T(0), label_t(0)}},
-                               std::numeric_limits<T>::infinity(), false);
-      table t;
-      t.L = std::move(d.distance.values());
-      for (int a = 0; a < 3; ++a) t.e[a] = te[a];
-      tables_.push_back(std::move(t));
-      bits_.push_back(bits);
-    }
-    if (tables_.empty()) return;
-    id_.assign(std::size_t(n), -1);
-    for (index_t v = 0; v < n; ++v) {
-      if (m_[std::size_t(v)] < 2) continue;
-      const std::uint64_t c = cls(v);
-      for (std::size_t t = 0; t < bits_.size(); ++t)
-        if (bits_[t] == c) id_[std::size_t(v)] = std::int8_t(t);
-    }
-  }
+}
 
   bool empty() const noexcept { return tables_.empty(); }
   /// The table of voxel v's region if its ball is worth using (m >= 2), else null.

@@ -85,7 +85,7 @@ struct admission {
   T length;  ///< the shortest edge length of the stencil
   template <class M>
   GEOVORONOI_HOST_DEVICE bool near(T d, T fv, const M& metric) const {
-    return d <= theta && (d <= base || d <= base + depth * metric(length, fv, fv));
+    return d <= theta && (d <= base || d <= base + depth * search::edge_weight(metric, length, fv, fv));
   }
 };
 
