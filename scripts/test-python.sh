@@ -1,49 +1,70 @@
 #!/usr/bin/env bash
-# Builds the Python package and runs its pytest suite (python/tests). Meant to be called by the
-# README's test command (scripts/test.sh), after the C++ build: the CLI-parity tests use the C++ tool
-# from build/ or build-test/ when it is there (GEOVORONOI_CLI=path overrides), and are skipped, saying why, otherwise.
+# Builds the Python package with `pip install .` and runs its pytest suite (python/tests).
 #
-# Python: Debian's /usr/bin/python3 with Debian's NumPy, SciPy, scikit-image and pytest. The package
-# is installed into a virtual environment over those (build-python/venv, --system-site-packages), not
-# into the system interpreter (Debian marks it externally managed). The build dependencies are the
-# versions pinned in pyproject.toml, installed from PyPI into the venv; the build runs without pip's
-# build isolation in a kept folder (build-python/wheel), so a second run only recompiles what changed.
+# Python: Debian's /usr/bin/python3 with Debian's NumPy, SciPy, scikit-image and pytest; the package
+# goes into build-python/venv, a virtual environment over them that holds the build requirements as
+# pinned in pyproject.toml (scripts/lib/python-venv.sh). pip builds without build isolation, with
+# those requirements.
+#
+# Alone (a developer): the build runs in a kept folder, build-python/wheel, so a second run only
+# recompiles what changed, with -Werror. GEOVORONOI_PYTHON_CXX_FLAGS_RELEASE, when set, replaces the
+# Release flags (-O3 -DNDEBUG).
+#
+# In the README's test command (scripts/test.sh): GEOVORONOI_PYTHON_BUILD_DIR names the test build
+# (build-test/), configured with GEOVORONOI_BUILD_PYTHON=ON, whose objects (the front end it shares
+# with the command-line tool, and the extension) are compiled already. pip's build re-configures that
+# tree with the tree's own values of every option pyproject.toml sets, so that nothing recompiles, and
+# installs the extension it holds: `pip install .` still runs end to end, the wheel's own option
+# values are what it does not exercise. The tests then compare `python -m geovoronoi` with that
+# tree's tool (bin/geovoronoi) byte for byte.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 source scripts/lib/packages.sh
-ensure_packages g++ cmake libeigen3-dev zlib1g-dev python3-dev python3-pip python3-venv \
+source scripts/lib/python-venv.sh
+ensure_packages g++ cmake ninja-build libeigen3-dev zlib1g-dev libpng-dev python3-dev python3-pip python3-venv \
                 python3-numpy python3-scipy python3-skimage python3-pytest
 
-py=/usr/bin/python3
-venv=build-python/venv
 start=$SECONDS
-if [ ! -x "$venv/bin/python" ]; then
-  "$py" -m venv --system-site-packages "$venv"
-fi
-# the build requirements exactly as pinned in pyproject.toml's [build-system]
-reqs=$("$venv/bin/python" -c 'import tomllib; print(" ".join(tomllib.load(open("pyproject.toml","rb"))["build-system"]["requires"]))')
-"$venv/bin/python" -m pip install -q --disable-pip-version-check $reqs
-# GEOVORONOI_PYTHON_CXX_FLAGS_RELEASE, when set, replaces the Release flags (-O3 -DNDEBUG): the
-# README's test command builds the extension at -O1, like its C++ build (about half the compile time)
-flags=()
-if [ -n "${GEOVORONOI_PYTHON_CXX_FLAGS_RELEASE:-}" ]; then
-  flags+=(--config-settings="cmake.define.CMAKE_CXX_FLAGS_RELEASE=${GEOVORONOI_PYTHON_CXX_FLAGS_RELEASE}")
-fi
-echo "== building the Python package (pip install .; Release flags: ${GEOVORONOI_PYTHON_CXX_FLAGS_RELEASE:-the default, -O3})"
-CMAKE_BUILD_PARALLEL_LEVEL="${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}" \
-  "$venv/bin/python" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps \
-  --config-settings=build-dir=build-python/wheel --config-settings=cmake.define.GEOVORONOI_PYTHON_WERROR=ON \
-  "${flags[@]}" .
-
-if [ -z "${GEOVORONOI_CLI:-}" ]; then
-  for c in build/bin/geovoronoi build-test/bin/geovoronoi build/tools/geovoronoi/geovoronoi; do
-    if [ -f "$c" ] && [ -x "$c" ]; then export GEOVORONOI_CLI="$PWD/$c"; break; fi
+python_venv
+settings=()
+build_dir="${GEOVORONOI_PYTHON_BUILD_DIR:-}"
+if [ -n "$build_dir" ]; then
+  cache="$build_dir/CMakeCache.txt"
+  if ! grep -qx "GEOVORONOI_BUILD_PYTHON:BOOL=ON" "$cache" 2>/dev/null; then
+    echo "$build_dir is not a build folder configured with GEOVORONOI_BUILD_PYTHON=ON"
+    exit 1
+  fi
+  settings+=(--config-settings=build-dir="$build_dir")
+  # every option pyproject.toml sets, and the build type, at the tree's own value
+  names=$("$venv_python" -c 'import tomllib; print(" ".join(tomllib.load(open("pyproject.toml","rb"))["tool"]["scikit-build"]["cmake"]["define"]))')
+  for name in $names; do
+    if ! grep -q "^$name:" "$cache"; then
+      echo "$build_dir has no $name in its cache"
+      exit 1
+    fi
+    settings+=(--config-settings="cmake.define.$name=$(sed -n "s/^$name:[A-Z]*=//p" "$cache")")
   done
+  settings+=(--config-settings="cmake.build-type=$(sed -n 's/^CMAKE_BUILD_TYPE:[A-Z]*=//p' "$cache")")
+  if [ -z "${GEOVORONOI_CLI:-}" ] && [ -x "$build_dir/bin/geovoronoi" ]; then
+    export GEOVORONOI_CLI="$PWD/$build_dir/bin/geovoronoi"
+  fi
+  what="reusing the objects of $build_dir"
+else
+  settings+=(--config-settings=build-dir=build-python/wheel --config-settings=cmake.define.GEOVORONOI_WERROR=ON)
+  if [ -n "${GEOVORONOI_PYTHON_CXX_FLAGS_RELEASE:-}" ]; then
+    settings+=(--config-settings="cmake.define.CMAKE_CXX_FLAGS_RELEASE=${GEOVORONOI_PYTHON_CXX_FLAGS_RELEASE}")
+  fi
+  what="in build-python/wheel; Release flags: ${GEOVORONOI_PYTHON_CXX_FLAGS_RELEASE:-the default, -O3}"
 fi
-echo "== Python tests (pytest; C++ tool: ${GEOVORONOI_CLI:-none in build/, the parity tests look in build-python/cli too and skip without one})"
+echo "== building the Python package (pip install .; $what)"
+CMAKE_BUILD_PARALLEL_LEVEL="${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}" \
+  "$venv_python" -m pip install -q --disable-pip-version-check --no-build-isolation --no-deps "${settings[@]}" .
+echo "== built and installed in $((SECONDS - start)) s"
+
+echo "== Python tests (pytest; the C++ tool for the byte-for-byte test: ${GEOVORONOI_CLI:-build/ or build-test/ when built there, else skipped})"
 rc=0
-(cd python/tests && "../../$venv/bin/python" -m pytest -q -p no:cacheprovider .) || rc=$?
+(cd python/tests && "$venv_python" -m pytest -q -p no:cacheprovider .) || rc=$?
 if [ "$rc" -eq 5 ]; then
   echo "pytest collected no tests: that is a failure"
   exit 1

@@ -8,12 +8,15 @@
 #   stage runs in the background from the start (scripts/lib/sanitizer-stage.sh, log
 #   build-sanitize/stage.log);
 # - everything else is built with g++ at -O1 and -Werror (build-test/): the CLI tool and its
-#   end-to-end tests, the benchmarks (run once each as a smoke test: ctest label `bench`), the
-#   examples, the compile-only header checks, the consumer projects, the suites the sanitizer build
-#   does not have (the full Thrust OpenMP backend matrix, the Thrust CPP and TBB suites, the nvcc units);
-# - the Python package (scripts/test-python.sh; g++ -O1 and -Werror here, -O3 in a user's
-#   `pip install .`) and its pytest suite, which checks it against SciPy, scikit-image and, byte for
-#   byte, the C++ tool of the g++ build;
+#   end-to-end tests, the Python extension (GEOVORONOI_BUILD_PYTHON: it links the front-end objects
+#   the tool links, compiled once), the benchmarks (run once each as a smoke test: ctest label
+#   `bench`), the examples, the compile-only header checks, the consumer projects, the suites the
+#   sanitizer build does not have (the full Thrust OpenMP backend matrix, the Thrust CPP and TBB
+#   suites, the nvcc units);
+# - the Python package (scripts/test-python.sh): `pip install .` re-configures build-test/ with its
+#   own options and installs the extension compiled there (nothing is compiled again; a user's
+#   `pip install .` builds at -O3 in its own folder), then its pytest suite, which checks it against
+#   SciPy, scikit-image and, byte for byte, the C++ tool of the g++ build;
 # - the parsers fuzzed (libFuzzer, clang, ASan + UBSan).
 #
 # To stay fast on a 2-core machine (figures: docs/testing.md):
@@ -39,8 +42,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 source scripts/lib/packages.sh
+source scripts/lib/python-venv.sh
 ensure_packages cmake g++ make ninja-build libeigen3-dev doctest-dev libbenchmark-dev libpng-dev zlib1g-dev \
-                libtbb-dev libomp-dev clang
+                libtbb-dev libomp-dev clang python3-dev python3-pip python3-venv python3-numpy python3-scipy \
+                python3-skimage python3-pytest
 
 jobs=$(nproc)
 gpu=0
@@ -121,20 +126,21 @@ san_start=$SECONDS
 setsid scripts/lib/sanitizer-stage.sh "$jobs" > build-sanitize/stage.log 2>&1 &
 san_pid=$!
 
-echo "== g++ build (g++ -O1, -Werror, CUDA architecture ${cuda_arch}, nvcc ${cuda_flags}, ${generator})"
+echo "== g++ build (g++ -O1, -Werror, CUDA architecture ${cuda_arch}, nvcc ${cuda_flags}, ${generator}, the Python extension)"
+# the extension is built against the venv's Python and nanobind (the ones pip's build uses later)
+python_venv
 configure build-test -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
       -DCMAKE_CUDA_FLAGS_RELEASE="$cuda_flags" -DGEOVORONOI_WERROR=ON \
       -DGEOVORONOI_CUDA_ARCHITECTURES="$cuda_arch" -DGEOVORONOI_TEST_CUDA_REDUCED_MATRIX="$reduced_cuda" \
-      -DGEOVORONOI_TEST_HOST_SUITES=OFF
+      -DGEOVORONOI_TEST_HOST_SUITES=OFF -DGEOVORONOI_BUILD_PYTHON=ON -DPython_EXECUTABLE="$venv_python"
 cmake --build build-test -j"$jobs"
 stage_done "g++ build (sanitizer stage alongside)"
 
 ctest --test-dir build-test --output-on-failure -j"$jobs"
 stage_done "g++ ctest (sanitizer stage alongside)"
 
-echo "== Python package (pip install . into build-python/venv at -O1, pytest)"
-GEOVORONOI_CLI="$PWD/build-test/bin/geovoronoi" GEOVORONOI_PYTHON_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
-  scripts/test-python.sh
+echo "== Python package (pip install . into build-python/venv from build-test's objects, pytest)"
+GEOVORONOI_PYTHON_BUILD_DIR=build-test scripts/test-python.sh
 stage_done "python package (sanitizer stage alongside)"
 
 echo "== waiting for the ASan + UBSan stage"

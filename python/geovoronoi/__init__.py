@@ -69,7 +69,7 @@ def default_backend() -> str:
     """The backend that ``backend="auto"`` picks here for a large problem (a smaller one runs on
     ``"seq"``; see :func:`voronoi`): ``"thrust"`` when it is built and the
     machine has more than one hardware thread, else ``"seq"``."""
-    return _ext._resolve_backend("auto")
+    return _ext._default_backend()
 
 
 class Diagram:

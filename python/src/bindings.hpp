@@ -1,14 +1,10 @@
-// Shared part of the extension geovoronoi._geovoronoi (python/src): argument translation and the
-// templated solve wrappers, instantiated per dtype in solve_float.cpp and solve_double.cpp so that
-// the two heavy translation units compile in parallel. The same wrappers on problems with cut edges,
-// and the incremental updates, are instantiated apart (cuts.hpp, cuts_float.cpp, cuts_double.cpp):
-// only the calls that involve cuts pay for those instantiations.
-//
-// geovoronoi._geovoronoi: the nanobind extension behind the Python package.
+// Shared part of the extension geovoronoi._geovoronoi (python/src): the translation between NumPy
+// buffers and the library's types, the handles that own results, the progress bridge. Every name ->
+// type decision and every solve goes through the front-end layer that the command-line tool uses
+// (tools/geovoronoi: kinds.hpp, backends.hpp, typed_problem.hpp); solve.cpp holds the calls.
 //
 // The Python layer (python/geovoronoi/__init__.py) normalises every argument (dtypes, axis order,
-// defaults) and calls the private functions defined here, which only translate between NumPy
-// buffers and the library's types:
+// defaults) and calls the private functions of the extension, which only translate:
 //   * array axes are [z, y, x] / [y, x]; the library's grid has x fastest, so a C-contiguous array
 //     is the library's memory layout as is: the field is viewed in place (image_view), never copied;
 //   * seeds, spacing and origin arrive in array-axis order and are reversed into (x, y, z) here;
@@ -25,17 +21,18 @@
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/pair.h>
 #include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
 #include <nanobind/stl/vector.h>
 
+#include "backends.hpp"
+#include "kinds.hpp"
+#include "typed_problem.hpp"
+
 #include <geovoronoi.hpp>
-#include <geovoronoi/backend/choose.hpp>
 #include <geovoronoi/io/metaimage.hpp>
 #include <geovoronoi/io/vti.hpp>
 #include <geovoronoi/shape_functions.hpp>
 
-#if defined(GEOVORONOI_PY_THRUST)
-#include <geovoronoi/backend/thrust.hpp>
-#endif
 #if defined(_OPENMP)
 #include <omp.h>
 #endif
@@ -50,6 +47,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 #include <variant>
@@ -120,69 +118,6 @@ gv::grid<Dim> make_grid(const std::vector<std::size_t>& shape, const std::vector
   return gv::grid<Dim>(e, s, o, d);
 }
 
-/// Calls f with the metric object named `name`.
-template <class F>
-decltype(auto) with_metric(const std::string& name, F&& f) {
-  if (name == "min_stiffness") return f(gv::min_stiffness{});
-  if (name == "mean_stiffness") return f(gv::mean_stiffness{});
-  if (name == "mean_cost") return f(gv::mean_cost{});
-  if (name == "uniform") return f(gv::uniform{});
-  throw std::invalid_argument("geovoronoi: unknown metric '" + name +
-                              "' (uniform, min_stiffness, mean_stiffness or mean_cost)");
-}
-
-/// Calls f with the connectivity<n> of dimension Dim.
-template <int Dim, class F>
-decltype(auto) with_connectivity(int n, F&& f) {
-  if constexpr (Dim == 2) {
-    if (n == 4) return f(gv::connectivity<4>{});
-    if (n == 8) return f(gv::connectivity<8>{});
-    throw std::invalid_argument("geovoronoi: 2D connectivity must be 4 or 8, got " + std::to_string(n));
-  } else {
-    if (n == 6) return f(gv::connectivity<6>{});
-    if (n == 18) return f(gv::connectivity<18>{});
-    if (n == 26) return f(gv::connectivity<26>{});
-    throw std::invalid_argument("geovoronoi: 3D connectivity must be 6, 18 or 26, got " + std::to_string(n));
-  }
-}
-
-inline bool thrust_built() {
-#if defined(GEOVORONOI_PY_THRUST)
-  return true;
-#else
-  return false;
-#endif
-}
-
-/// The backend a name stands for before the problem is known (names checked): "auto" is thrust
-/// (OpenMP) when built and more than one hardware thread is there, else seq (default_backend()).
-inline std::string resolve_backend(const std::string& b) {
-  if (b == "auto") return thrust_built() && std::thread::hardware_concurrency() > 1 ? "thrust" : "seq";
-  if (b == "seq") return b;
-  if (b == "thrust") {
-    if (!thrust_built()) throw std::invalid_argument("geovoronoi: backend 'thrust' is not built into this package");
-    return b;
-  }
-  if (b == "cuda")
-    throw std::invalid_argument("geovoronoi: backend 'cuda' is not built into this package (CPU backends only: seq, thrust)");
-  throw std::invalid_argument("geovoronoi: unknown backend '" + b + "' (auto, seq or thrust)");
-}
-
-/// The backend @p b names for problem @p p. "auto" follows the library's per-problem rule, as the
-/// command-line tool's default does (backend/choose.hpp, docs/backends.md): thrust when it is built,
-/// the call may use more than one thread (threads=, else OpenMP's limit) and, for a Voronoi solve,
-/// the domain is large enough to share (shape functions share their searches at any size); else seq.
-template <class P>
-std::string resolve_backend_for(const std::string& b, const P& p, int threads, bool shape_functions) {
-  if (b != "auto" || !thrust_built()) return resolve_backend(b);
-  unsigned t = threads > 0 ? unsigned(threads) : std::thread::hardware_concurrency();
-#if defined(_OPENMP)
-  if (threads <= 0) t = unsigned(omp_get_max_threads());
-#endif
-  const auto k = shape_functions ? gv::recommended_shape_backend(p, t) : gv::recommended_backend(p, t);
-  return k == gv::backend_kind::thrust ? "thrust" : "seq";
-}
-
 /// Sets the OpenMP thread count of the calling thread's parallel regions for its lifetime.
 struct thread_count_scope {
   int old = 0;
@@ -206,20 +141,6 @@ struct thread_count_scope {
   thread_count_scope(const thread_count_scope&) = delete;
   thread_count_scope& operator=(const thread_count_scope&) = delete;
 };
-
-/// Calls f with the backend policy named `backend` ("seq" or "thrust", already resolved).
-template <class F>
-decltype(auto) with_backend(const std::string& backend, F&& f) {
-#if defined(GEOVORONOI_PY_THRUST)
-  if (backend == "thrust") {
-    last_backend = 1;
-    return f(gv::thrust::par);
-  }
-#endif
-  (void)backend;
-  last_backend = 0;
-  return f(gv::seq);
-}
 
 /// Forwards the library's progress reports (fraction done) to a Python callable as increments of
 /// the percentage done, and turns a pending Python exception (Ctrl-C, or one the callable raised)
@@ -276,35 +197,35 @@ struct diagram_handle {
   cut_handle cuts;  ///< every cut edge the diagram was solved with (none: no cut)
 };
 
-/// Calls f with problem @p p, or with p and the cut edges of @p cut when Cuts is true (the table
-/// lives for the call). The cut set must be of p's grid and connectivity.
-template <bool Cuts, class P, class F>
-void with_problem(const P& p, const cut_handle* cut, F&& f) {
-  if constexpr (Cuts) {
-    const auto* cs = std::get_if<gv::cut_set<P::dim>>(cut->s.get());
-    if (!cs || cs->directions() != P::neighbours || !(cs->geometry() == p.geometry))
-      throw std::invalid_argument("geovoronoi: the cut belongs to another grid or connectivity than the field");
-    const gv::cut_table table(*cs);
-    f(gv::with_cuts(p, table));
-  } else {
-    (void)cut;
-    f(p);
-  }
+/// The cut set of @p h, which must belong to the grid @p g and the connectivity @p connectivity.
+template <int Dim>
+const gv::cut_set<Dim>& cut_of(const cut_handle& h, const gv::grid<Dim>& g, int connectivity) {
+  const auto* cs = h.s ? std::get_if<gv::cut_set<Dim>>(h.s.get()) : nullptr;
+  if (!cs || cs->directions() != connectivity || !(cs->geometry() == g))
+    throw std::invalid_argument("geovoronoi: the cut belongs to another grid or connectivity than the field");
+  return *cs;
 }
 
-/// Distance Ratio's kept searches (shape_options::keep_update_state) for the Python layer's ShapeState:
-/// the library's immutable, shared distance_ratio_state<T>, its weight type and the grid it belongs to.
+/// The library's Distance Ratio state (shape_options::keep_update_state): the type of
+/// shape_weights::update_state, the same for every dimension.
+template <class T>
+using dr_state_ptr = decltype(gv::shape_weights<T, 3>::update_state);
+
+/// Distance Ratio's kept searches for the Python layer's ShapeState: the library's immutable, shared
+/// state, its weight type and the grid it belongs to.
 struct shape_state_handle {
-  std::shared_ptr<const void> state;  ///< a const detail::shape::distance_ratio_state<T>
+  std::shared_ptr<const void> state;  ///< the element of a dr_state_ptr<T>
   bool f32 = true;                    ///< T is float (else double)
   std::size_t voxels = 0;             ///< voxels of the grid it was computed on
   std::size_t nbytes = 0;             ///< bytes its lists hold
 
   template <class T>
-  static shape_state_handle of(std::shared_ptr<const gv::detail::shape::distance_ratio_state<T>> s, std::size_t voxels) {
+  static shape_state_handle of(dr_state_ptr<T> s, std::size_t voxels) {
     shape_state_handle h;
     h.f32 = std::is_same_v<T, float>;
     h.voxels = voxels;
+    // the state's lists: every node's support and frontier (voxel, value) pairs (the library has no
+    // accessor for their size; this reads its layout)
     for (const auto& nd : s->nodes)
       h.nbytes += (nd.support->size() + nd.frontier->size()) * (sizeof(index_t) + sizeof(T));
     h.state = std::move(s);
@@ -312,10 +233,10 @@ struct shape_state_handle {
   }
   /// The state as the library's type, after checking that it is one of T on a grid of @p voxels voxels.
   template <class T>
-  std::shared_ptr<const gv::detail::shape::distance_ratio_state<T>> as(std::size_t n) const {
+  dr_state_ptr<T> as(std::size_t n) const {
     if (f32 != std::is_same_v<T, float> || voxels != n || !state)
       throw std::invalid_argument("geovoronoi: the shape-function state belongs to another grid or dtype");
-    return std::static_pointer_cast<const gv::detail::shape::distance_ratio_state<T>>(state);
+    return std::static_pointer_cast<typename dr_state_ptr<T>::element_type>(state);
   }
 };
 
@@ -328,12 +249,16 @@ struct problem_args {
   int threads = 0;
 };
 
-/// An explicit "seq" with threads > 1 is a contradiction (auto may pick seq for a small problem: the
-/// thread count is then a limit it did not need).
-inline void check_threads(const problem_args& a) {
-  if (resolve_backend(a.backend) == "seq" && (a.backend == "seq" || !thrust_built()) && a.threads > 1)
+/// The backend @p a names (checked by the front end: unknown, not built), null for "auto". An explicit
+/// "seq", or "auto" where thrust is not built, with threads > 1 is a contradiction (auto may pick seq
+/// for a small problem: the thread count is then a limit it did not need).
+inline const gvcli::backend* check_threads(const problem_args& a) {
+  const gvcli::backend* b = gvcli::parse_backend(a.backend, true);
+  const bool seq_only = b ? b->id == gvcli::backend_id::seq : !gvcli::find_backend(gvcli::backend_id::thrust).built();
+  if (seq_only && a.threads > 1)
     throw std::invalid_argument("geovoronoi: backend 'seq' runs on one thread; threads=" + std::to_string(a.threads) +
                                 " needs backend 'thrust'");
+  return b;
 }
 
 template <int Dim>
@@ -375,58 +300,7 @@ nb::object diagram_arrays(gv::diagram<T, Dim>& d, const std::vector<std::size_t>
   return nb::make_tuple(owner, distance, label, parent, seed_array);
 }
 
-template <class T, int Dim, bool Cuts>
-nb::object voronoi_impl(const problem_args& a, const in_array& seeds, bool world, bool with_parent,
-                        nb::object progress, const cut_handle* cut) {
-  std::vector<std::size_t> shape(a.field.ndim());
-  for (std::size_t i = 0; i < shape.size(); ++i) shape[i] = a.field.shape(i);
-  const auto g = make_grid<Dim>(shape, a.spacing, a.origin);
-  const auto coords = seeds_to_coords<Dim>(g, seeds, world);
-  const T* field = static_cast<const T*>(a.field.data());
-  last_field_address = reinterpret_cast<std::uintptr_t>(field);
-  check_threads(a);
-  gv::solve_options opt;
-  opt.with_parent = with_parent;
-  opt.threads = a.threads > 0 ? unsigned(a.threads) : 0u;
-  // the solver's progress hook: reports to the callable and polls Ctrl-C (KeyboardInterrupt cancels)
-  progress_bridge bridge{progress, 0.0, std::nullopt};
-  opt.progress = [&](double f) { return bridge(f); };
-  auto* h = new diagram_handle;
-  h->metric = a.metric;
-  h->connectivity = a.connectivity;
-  if (cut) h->cuts = *cut;
-  nb::object owner = nb::cast(h, nb::rv_policy::take_ownership);
-  try {
-    nb::gil_scoped_release release;
-    thread_count_scope threads(a.threads);
-    const auto t0 = std::chrono::steady_clock::now();
-    with_metric(a.metric, [&](auto metric) {
-      with_connectivity<Dim>(a.connectivity, [&](auto conn) {
-        const auto p0 = gv::make_problem(g, gv::image_view<const T, Dim>(g, field), metric, conn);
-        with_problem<Cuts>(p0, cut, [&](const auto& p) {
-          with_backend(resolve_backend_for(a.backend, p, a.threads, false),
-                       [&](const auto& policy) { h->d = gv::voronoi(policy, p, coords, opt); });
-        });
-      });
-    });
-    last_core_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  } catch (const gv::cancelled&) {
-    if (bridge.error) throw std::move(*bridge.error);
-    throw;
-  }
-  if (bridge.error) throw std::move(*bridge.error);
-  bridge.finish();
-  return diagram_arrays(std::get<gv::diagram<T, Dim>>(h->d), shape, owner);
-}
-
 // ---- shape functions ------------------------------------------------------------------------------
-
-inline gv::shape_method parse_method(const std::string& m) {
-  if (m == "distance_ratio") return gv::shape_method::distance_ratio;
-  if (m == "sibson") return gv::shape_method::sibson;
-  if (m == "laplace") return gv::shape_method::laplace;
-  throw std::invalid_argument("geovoronoi: unknown method '" + m + "' (distance_ratio, sibson or laplace)");
-}
 
 /// The checks and options every shape-function call shares.
 template <class T, int Dim>
@@ -442,7 +316,7 @@ inline gv::shape_options make_shape_options(const problem_args& a, const std::st
                                             std::size_t batch_size, progress_bridge& bridge) {
   check_threads(a);
   gv::shape_options opt;
-  opt.method = parse_method(method);
+  opt.method = gvcli::parse_method(method);
   opt.max_nodes_per_voxel = k;
   opt.batch_size = batch_size;
   opt.threads = a.threads > 0 ? unsigned(a.threads) : 0u;
@@ -503,91 +377,35 @@ nb::object weights_to_python(std::vector<label_t>&& node, std::vector<T>&& weigh
                         vector_to_numpy(std::move(indptr), {n + 1}), nodes, fixed_idx, fixed_w);
 }
 
-/// (weights tuple, state): the state is a shape_state_handle when @p keep (Distance Ratio on the whole
-/// grid: shape_options::keep_update_state), else None.
-template <class T, int Dim, bool Cuts>
-nb::object shape_impl(const problem_args& a, diagram_handle& h, const std::string& method, int k,
-                      std::size_t batch_size, nb::object progress, const std::optional<in_array>& points, bool keep) {
-  auto* dp = &checked_diagram<T, Dim>(a, h);
-  std::vector<std::size_t> shape(a.field.ndim());
-  for (std::size_t i = 0; i < shape.size(); ++i) shape[i] = a.field.shape(i);
-  const auto g = make_grid<Dim>(shape, a.spacing, a.origin);
-  const T* field = static_cast<const T*>(a.field.data());
-  last_field_address = reinterpret_cast<std::uintptr_t>(field);
-  progress_bridge bridge{progress, 0.0, std::nullopt};
-  gv::shape_options opt = make_shape_options(a, method, k, batch_size, bridge);
-  if (keep && (points || opt.method != gv::shape_method::distance_ratio))
-    throw std::invalid_argument("geovoronoi: keep_state applies to Distance Ratio on the whole grid only");
-  opt.keep_update_state = keep;
-  std::shared_ptr<const gv::detail::shape::distance_ratio_state<T>> kept;
-  // Without points: every voxel (shape_functions); with points: only those voxels (shape_functions_at),
-  // given as int64 array indices [z, y, x] already bounds-checked by the Python layer.
-  std::optional<std::vector<gv::coord<Dim>>> at;
-  if (points) at = seeds_to_coords<Dim>(g, *points, false);
-  std::vector<label_t> node;
-  std::vector<T> weight;
-  std::size_t kk = 0, nodes = 0;
-  run_released(a, bridge, [&] {
-    with_metric(a.metric, [&](auto metric) {
-      with_connectivity<Dim>(a.connectivity, [&](auto conn) {
-        const auto p0 = gv::make_problem(g, gv::image_view<const T, Dim>(g, field), metric, conn);
-        with_problem<Cuts>(p0, &h.cuts, [&](const auto& p) {
-          with_backend(resolve_backend_for(a.backend, p, a.threads, true), [&](const auto& policy) {
-            auto take = [&](auto&& w) {
-              kk = std::size_t(w.k);
-              nodes = w.nodes;
-              node = std::move(w.node);
-              weight = std::move(w.weight);
-            };
-            if (at) {
-              take(gv::shape_functions_at(policy, p, *dp, *at, opt));
-            } else {
-              auto w = gv::shape_functions(policy, p, *dp, opt);
-              kept = std::move(w.update_state);
-              take(std::move(w));
-            }
-          });
-        });
-      });
-    });
-  });
-  const std::size_t n = at ? at->size() : std::size_t(g.size());
-  nb::object state = nb::none();
-  if (kept) state = nb::cast(shape_state_handle::of<T>(std::move(kept), std::size_t(g.size())));
-  return nb::make_tuple(weights_to_python(std::move(node), std::move(weight), n, kk, nodes,
-                                          at ? std::vector<std::size_t>{n} : shape),
-                        state);
-}
+// ---- the entries (solve.cpp) ---------------------------------------------------------------------
 
-/// voronoi() on a T field of 2 or 3 dimensions, with the edges of @p cut removed when it is not null
-/// (defined in solve_<T>.cpp, and in cuts_<T>.cpp for the cut form).
-template <class T, bool Cuts>
-nb::object voronoi_typed(const problem_args& a, const in_array& seeds, bool world, bool with_parent,
-                         nb::object progress, const cut_handle* cut) {
-  if (a.field.ndim() == 2) return voronoi_impl<T, 2, Cuts>(a, seeds, world, with_parent, progress, cut);
-  if (a.field.ndim() == 3) return voronoi_impl<T, 3, Cuts>(a, seeds, world, with_parent, progress, cut);
-  throw std::invalid_argument("geovoronoi: the field must be a 2D or 3D array, got " + std::to_string(a.field.ndim()) +
-                              " dimensions");
-}
+/// voronoi() on a float32 or float64 field of 2 or 3 dimensions, with the edges of @p cut removed when
+/// it is given.
+nb::object voronoi_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
+                         int connectivity, std::string backend, int threads, in_array seeds, bool world,
+                         bool with_parent, nb::object progress, std::optional<cut_handle> cut);
+/// shape_functions() (or shape_functions_at() with points) on diagram @p h (with its cut edges).
+nb::object shape_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
+                       int connectivity, std::string backend, int threads, diagram_handle& h, std::string method, int k,
+                       std::size_t batch_size, nb::object progress, std::optional<in_array> points, bool keep);
 
-/// shape_functions() on a T field of 2 or 3 dimensions (Cuts: with the diagram's cut edges).
-template <class T, bool Cuts>
-nb::object shape_typed(const problem_args& a, diagram_handle& h, const std::string& method, int k,
-                       std::size_t batch_size, nb::object progress, const std::optional<in_array>& points, bool keep) {
-  if (a.field.ndim() == 2) return shape_impl<T, 2, Cuts>(a, h, method, k, batch_size, progress, points, keep);
-  if (a.field.ndim() == 3) return shape_impl<T, 3, Cuts>(a, h, method, k, batch_size, progress, points, keep);
-  throw std::invalid_argument("geovoronoi: the field must be a 2D or 3D array, got " + std::to_string(a.field.ndim()) +
-                              " dimensions");
-}
+/// One node edit as the Python layer sends it: (kind 0 add / 1 remove / 2 move, position or -1 for
+/// "append", voxel in array-axis order (empty for remove)).
+using node_edit_args = std::tuple<int, std::int64_t, std::vector<std::int64_t>>;
 
-#define GEOVORONOI_PY_DECLARE(T, CUTS, EXTERN)                                                                      \
-  EXTERN template nb::object voronoi_typed<T, CUTS>(const problem_args&, const in_array&, bool, bool, nb::object, \
-                                                    const cut_handle*);                                          \
-  EXTERN template nb::object shape_typed<T, CUTS>(const problem_args&, diagram_handle&, const std::string&, int,  \
-                                                  std::size_t, nb::object, const std::optional<in_array>&, bool);
-GEOVORONOI_PY_DECLARE(float, false, extern)
-GEOVORONOI_PY_DECLARE(double, false, extern)
-GEOVORONOI_PY_DECLARE(float, true, extern)
-GEOVORONOI_PY_DECLARE(double, true, extern)
+/// update() of diagram @p before after a change (on the host, seq).
+nb::object update_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
+                        int connectivity, diagram_handle& before, std::optional<cut_handle> cut,
+                        std::optional<cut_handle> all, std::optional<in_array> carved, std::optional<in_array> added,
+                        std::optional<in_array> restiffened, std::vector<node_edit_args> nodes);
+/// update_shape_functions() from @p before to @p after.
+nb::object shape_update_entry(in_array field, std::vector<double> spacing, std::vector<double> origin,
+                              std::string metric, int connectivity, std::string backend, int threads,
+                              diagram_handle& before, diagram_handle& after, std::optional<cut_handle> cut,
+                              std::optional<cut_handle> all, std::optional<in_array> carved,
+                              std::optional<in_array> added, std::optional<in_array> restiffened,
+                              std::vector<node_edit_args> nodes, std::string method, int k, std::size_t batch_size,
+                              nb::object progress, in_array old_node, in_array old_weight, std::size_t old_nodes,
+                              std::optional<in_array> points, const shape_state_handle* state);
 
 }  // namespace gvpy

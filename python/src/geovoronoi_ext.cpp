@@ -2,11 +2,13 @@
 //
 // The Python layer (python/geovoronoi/__init__.py) normalises every argument (dtypes, axis order,
 // defaults) and calls the private functions defined here, which only translate between NumPy
-// buffers and the library's types (bindings.hpp holds the translation and the solve wrappers; the
-// wrappers are compiled per dtype in solve_float.cpp and solve_double.cpp).
+// buffers and the library's types (bindings.hpp; the solves are in solve.cpp, on the front end's
+// typed problems). cli_main() runs the geovoronoi command line itself (`python -m geovoronoi`).
 
 #include "bindings.hpp"
-#include "cuts.hpp"
+#include "run.hpp"
+
+#include <cstdio>
 
 #include <geovoronoi/cut_from_mesh.hpp>
 #include <geovoronoi/io/mesh.hpp>
@@ -16,68 +18,6 @@
 using namespace gvpy;
 
 namespace {
-bool is_f32(const in_array& field) {
-  const bool f32 = field.dtype() == nb::dtype<float>(), f64 = field.dtype() == nb::dtype<double>();
-  if (!f32 && !f64) throw nb::type_error("geovoronoi: the field must be float32 or float64");
-  return f32;
-}
-
-nb::object voronoi_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
-                         int connectivity, std::string backend, int threads, in_array seeds, bool world,
-                         bool with_parent, nb::object progress, std::optional<cut_handle> cut) {
-  problem_args a{field, std::move(spacing), std::move(origin), std::move(metric), connectivity, std::move(backend), threads};
-  const bool f32 = is_f32(field);
-  if (cut && cut->s) {
-    if (cut->connectivity != connectivity)
-      throw std::invalid_argument("geovoronoi: the cut was made for connectivity " + std::to_string(cut->connectivity) +
-                                  ", the solve uses " + std::to_string(connectivity));
-    return f32 ? voronoi_typed<float, true>(a, seeds, world, with_parent, progress, &*cut)
-               : voronoi_typed<double, true>(a, seeds, world, with_parent, progress, &*cut);
-  }
-  return f32 ? voronoi_typed<float, false>(a, seeds, world, with_parent, progress, nullptr)
-             : voronoi_typed<double, false>(a, seeds, world, with_parent, progress, nullptr);
-}
-
-change_args make_change_args(std::optional<cut_handle> cut, std::optional<cut_handle> all, std::optional<in_array> carved,
-                             std::optional<in_array> added, std::optional<in_array> restiffened,
-                             std::vector<node_edit_args> nodes) {
-  change_args c;
-  if (cut) c.cut = *cut;
-  if (all) c.all = *all;
-  c.carved = std::move(carved);
-  c.added = std::move(added);
-  c.restiffened = std::move(restiffened);
-  c.nodes = std::move(nodes);
-  return c;
-}
-
-nb::object update_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
-                        int connectivity, diagram_handle& before, std::optional<cut_handle> cut,
-                        std::optional<cut_handle> all, std::optional<in_array> carved, std::optional<in_array> added,
-                        std::optional<in_array> restiffened, std::vector<node_edit_args> nodes) {
-  problem_args a{field, std::move(spacing), std::move(origin), std::move(metric), connectivity, "seq", 0};
-  const change_args c = make_change_args(std::move(cut), std::move(all), std::move(carved), std::move(added),
-                                         std::move(restiffened), std::move(nodes));
-  return is_f32(field) ? update_typed<float>(a, before, c) : update_typed<double>(a, before, c);
-}
-
-nb::object shape_update_entry(in_array field, std::vector<double> spacing, std::vector<double> origin,
-                              std::string metric, int connectivity, std::string backend, int threads,
-                              diagram_handle& before, diagram_handle& after, std::optional<cut_handle> cut,
-                              std::optional<cut_handle> all, std::optional<in_array> carved,
-                              std::optional<in_array> added, std::optional<in_array> restiffened,
-                              std::vector<node_edit_args> nodes, std::string method, int k, std::size_t batch_size,
-                              nb::object progress, in_array old_node, in_array old_weight, std::size_t old_nodes,
-                              std::optional<in_array> points, const shape_state_handle* state) {
-  problem_args a{field, std::move(spacing), std::move(origin), std::move(metric), connectivity, std::move(backend), threads};
-  const change_args c = make_change_args(std::move(cut), std::move(all), std::move(carved), std::move(added),
-                                         std::move(restiffened), std::move(nodes));
-  return is_f32(field) ? shape_update_typed<float>(a, before, after, c, method, k, batch_size, progress, old_node,
-                                                   old_weight, old_nodes, points, state)
-                       : shape_update_typed<double>(a, before, after, c, method, k, batch_size, progress, old_node,
-                                                    old_weight, old_nodes, points, state);
-}
-
 // ---- cuts -------------------------------------------------------------------------------------------
 
 /// The cut set @p s moved onto grid @p g (same extents; the solve's grid, without orientation).
@@ -127,7 +67,7 @@ nb::object cut_from_mesh_entry(in_array vertices, in_array triangles, std::vecto
   gv::cut_stats st;
   {
     nb::gil_scoped_release release;
-    with_connectivity<3>(connectivity, [&](auto conn) {
+    gvcli::with_connectivity<3>(gvcli::check_connectivity(connectivity, 3), [&](auto conn) {
       h.s = std::make_shared<const std::variant<gv::cut_set<2>, gv::cut_set<3>>>(
           rehome(gv::cut_from_mesh(g, conn, mesh, &st), plain, conn));
     });
@@ -156,7 +96,7 @@ nb::object cut_from_polylines_entry(std::vector<in_array> lines, std::vector<std
   gv::cut_stats st;
   {
     nb::gil_scoped_release release;
-    with_connectivity<2>(connectivity, [&](auto conn) {
+    gvcli::with_connectivity<2>(gvcli::check_connectivity(connectivity, 2), [&](auto conn) {
       h.s = std::make_shared<const std::variant<gv::cut_set<2>, gv::cut_set<3>>>(
           rehome(gv::cut_from_polylines(g, conn, pl, &st), plain, conn));
     });
@@ -223,18 +163,6 @@ nb::object read_mesh_entry(const std::string& path) {
     for (int k = 0; k < 3; ++k) t.push_back(tri[std::size_t(k)]);
   const std::size_t nv = m.vertices.size(), nt = m.triangles.size();
   return nb::make_tuple(vector_to_numpy(std::move(v), {nv, 3}), vector_to_numpy(std::move(t), {nt, 3}));
-}
-
-nb::object shape_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
-                       int connectivity, std::string backend, int threads, diagram_handle& h, std::string method, int k,
-                       std::size_t batch_size, nb::object progress, std::optional<in_array> points, bool keep) {
-  problem_args a{field, std::move(spacing), std::move(origin), std::move(metric), connectivity, std::move(backend), threads};
-  const bool f32 = is_f32(field);
-  if (!h.cuts.empty())
-    return f32 ? shape_typed<float, true>(a, h, method, k, batch_size, progress, points, keep)
-               : shape_typed<double, true>(a, h, method, k, batch_size, progress, points, keep);
-  return f32 ? shape_typed<float, false>(a, h, method, k, batch_size, progress, points, keep)
-             : shape_typed<double, false>(a, h, method, k, batch_size, progress, points, keep);
 }
 
 // ---- images ---------------------------------------------------------------------------------------
@@ -360,6 +288,16 @@ void write_vti(const std::string& path, std::vector<std::pair<std::string, in_ar
   throw std::invalid_argument("geovoronoi: write_vti needs 2D or 3D arrays");
 }
 
+/// The geovoronoi command line (the tool's gvcli::run()) on @p args, with the GIL released; its
+/// output is flushed before returning, so that it comes before anything Python prints next.
+int cli_main(const std::vector<std::string>& args) {
+  nb::gil_scoped_release release;
+  const int rc = gvcli::run(args);
+  std::fflush(stdout);
+  std::fflush(stderr);
+  return rc;
+}
+
 }  // namespace
 
 NB_MODULE(_geovoronoi, m) {
@@ -374,6 +312,8 @@ NB_MODULE(_geovoronoi, m) {
       PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
     } catch (const gv::metric_error& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const gvcli::usage_error& e) {  // the front end's checks of names (metric, backend, ...)
+      PyErr_SetString(PyExc_ValueError, (std::string("geovoronoi: ") + e.what()).c_str());
     }
   });
 
@@ -429,10 +369,15 @@ NB_MODULE(_geovoronoi, m) {
     return b == 1 ? "thrust" : b == 0 ? "seq" : "";
   }, "Test hook: the backend the last solve or shape-function call ran on.");
   m.def("_backends", []() {
-    std::vector<std::string> b{"seq"};
-    if (thrust_built()) b.push_back("thrust");
-    return b;
-  });
-  m.def("_resolve_backend", &resolve_backend, nb::arg("backend"));
+    std::vector<std::string> names;
+    for (const auto& b : gvcli::backends())
+      if (b.built()) names.push_back(b.name);
+    return names;
+  }, "The backends built into the package.");
+  m.def("_default_backend", []() -> std::string { return gvcli::default_backend().name; },
+        "The machine-level default backend (what backend=\"auto\" picks for a large problem).");
+  m.def("cli_main", &cli_main, nb::arg("args"),
+        "Runs the geovoronoi command line on args (without the program name) and returns its exit code: "
+        "0 success, 2 usage or bad input, 1 runtime failure (docs/cli.md).");
   m.def("_metaimage_has_zlib", []() { return gio::metaimage_has_zlib; });
 }

@@ -1,14 +1,14 @@
 #pragma once
 // What `cut` and `demo` share about a change to a solved problem (cut surfaces, carved voxels): the
-// library's incremental updates (diagram and shape functions) on a problem_spec, the bit-for-bit
-// checks against a full recompute, and the change's outputs (changed.mhd, cut.png,
-// changed_weights.mhd; change.cpp).
+// bit-for-bit checks of the incremental updates (typed_problem::update_in_place(),
+// update_shape_functions_in_place()) against a full recompute, and the change's outputs
+// (changed.mhd, cut.png, changed_weights.mhd; change.cpp).
 
 #include "output_dir.hpp"
 #include "outputs.hpp"
-#include "solve.hpp"
 
-#include <geovoronoi/update.hpp>
+#include <geovoronoi.hpp>
+#include <geovoronoi/shape_functions.hpp>
 
 #include <cstdio>
 #include <cstring>
@@ -18,29 +18,6 @@
 #include <vector>
 
 namespace gvcli {
-
-/// Applies the cut edges @p added to diagram @p d (solved with parents on the problem without
-/// them); @p s is the problem with them. The library's update is one host algorithm for every
-/// backend (update.hpp), so it runs with gv::seq.
-template <class T>
-gv::update_stats update_cuts(const problem_spec<T>& s, const gv::cut_set<3>& added, gv::diagram<T, 3>& d) {
-  gv::update_stats st;
-  with_problem(s, [&](const auto& p) {
-    if constexpr (std::decay_t<decltype(p)>::has_cuts)
-      st = gv::update_in_place(gv::seq, p, d, added);
-    else
-      throw std::logic_error("geovoronoi: the problem after a cut carries no cuts");
-  });
-  return st;
-}
-
-/// Removes the voxels @p carved (already outside the domain in @p s) from diagram @p d.
-template <class T>
-gv::update_stats update_carving(const problem_spec<T>& s, const std::vector<gv::index_t>& carved, gv::diagram<T, 3>& d) {
-  gv::update_stats st;
-  with_problem(s, [&](const auto& p) { st = gv::update_in_place(gv::seq, p, d, gv::carving{carved}); });
-  return st;
-}
 
 /// The update's promise: @p upd equals the full recompute @p full bit for bit (distance, label,
 /// parent). A difference is a bug in the library, not the user's input: runtime_failure (exit 1).

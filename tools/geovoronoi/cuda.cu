@@ -1,8 +1,10 @@
-// The geovoronoi tool's CUDA backend: the only translation unit that includes the CUDA headers
-// (built by nvcc when the geovoronoi::cuda target exists; see tools/geovoronoi/CMakeLists.txt). It exposes
-// plain host functions (solve.hpp) so the rest of the tool stays ordinary C++.
+// The front end's CUDA backend: the only translation unit that includes the CUDA headers (built by
+// nvcc when the geovoronoi::cuda target exists, and linked into the tool only; see
+// tools/geovoronoi/CMakeLists.txt). It registers the typed problems of the CUDA kernel backend in 3D
+// (their shape-function and diagram updates are the host's, on seq) and the probe that says whether
+// a device answers, so the rest of the front end stays ordinary C++.
 
-#include "solve.hpp"
+#include "typed_problem_impl.hpp"
 
 #include <geovoronoi/backend/cuda.cuh>
 
@@ -10,6 +12,10 @@
 
 namespace gvcli {
 
+namespace {
+
+/// Whether a CUDA device can be used: empty when it can (then @p device holds its name), else why not
+/// (no device, no driver, ...). Never throws.
 std::string cuda_unavailable_reason(std::string* device) {
   int count = 0;
   const cudaError_t e = cudaGetDeviceCount(&count);
@@ -26,31 +32,19 @@ std::string cuda_unavailable_reason(std::string* device) {
   return {};
 }
 
-template <class T>
-gv::diagram<T, 3> cuda_voronoi(const problem_spec<T>& s) {
-  return solve_voronoi(gv::cuda::par, s);
+template <class T, bool Cuts>
+bool register_cuda() noexcept {
+  return register_problem_maker<T, 3>(backend_id::cuda, Cuts, &make_typed_problem_on<gv::cuda::par_t, T, 3, Cuts, true>);
 }
 
-template <class T>
-gv::shape_weights<T, 3> cuda_shape(const problem_spec<T>& s, const gv::diagram<T, 3>& d, const gv::shape_options& opt) {
-  return solve_shape(gv::cuda::par, s, d, opt);
-}
+// the lean build (GEOVORONOI_TOOL_LEAN, what scripts/demo.sh builds) computes in float only
+[[maybe_unused]] const bool registered = register_device_probe(backend_id::cuda, &cuda_unavailable_reason) &&
+                                         register_cuda<float, false>() && register_cuda<float, true>()
+#if !defined(GEOVORONOI_CLI_LEAN)
+                                         && register_cuda<double, false>() && register_cuda<double, true>()
+#endif
+    ;
 
-template <class T>
-gv::point_weights<T> cuda_shape_at(const problem_spec<T>& s, const gv::diagram<T, 3>& d, const point_spec& at,
-                                   const gv::shape_options& opt) {
-  return solve_shape_at(gv::cuda::par, s, d, at, opt);
-}
-
-template gv::diagram<float, 3> cuda_voronoi(const problem_spec<float>&);
-template gv::diagram<double, 3> cuda_voronoi(const problem_spec<double>&);
-template gv::shape_weights<float, 3> cuda_shape(const problem_spec<float>&, const gv::diagram<float, 3>&,
-                                               const gv::shape_options&);
-template gv::shape_weights<double, 3> cuda_shape(const problem_spec<double>&, const gv::diagram<double, 3>&,
-                                                const gv::shape_options&);
-template gv::point_weights<float> cuda_shape_at(const problem_spec<float>&, const gv::diagram<float, 3>&,
-                                              const point_spec&, const gv::shape_options&);
-template gv::point_weights<double> cuda_shape_at(const problem_spec<double>&, const gv::diagram<double, 3>&,
-                                               const point_spec&, const gv::shape_options&);
+}  // namespace
 
 }  // namespace gvcli

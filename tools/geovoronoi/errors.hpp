@@ -80,6 +80,14 @@ inline void clamp_thread_count() {
                printable(env).c_str(), std::max(1u, std::thread::hardware_concurrency()), max_threads());
 }
 
+/// The message of the library's exception @p e without its "geovoronoi: " prefix (the tool's error
+/// line adds its own).
+inline std::string library_message(const std::exception& e) {
+  std::string m = e.what();
+  if (m.compare(0, 12, "geovoronoi: ") == 0) m.erase(0, 12);
+  return m;
+}
+
 /// Inside a catch block: prints the one error line of the current exception, returns the exit code.
 inline int report_current_exception() noexcept {
   int code = 1;

@@ -5,7 +5,6 @@
 #include "outputs.hpp"
 #include "seed_file.hpp"
 
-#include <geovoronoi/backend/choose.hpp>
 #include <geovoronoi/cut_from_mesh.hpp>
 #include <geovoronoi/io/mesh.hpp>
 #include <geovoronoi/io/read.hpp>
@@ -124,7 +123,7 @@ namespace {
 std::shared_ptr<const gv::cut_table> load_cuts(const std::vector<std::string>& paths, const gv::grid<3>& g, int n,
                                                std::size_t& edges, std::shared_ptr<const gv::cut_set<3>>& set) {
   std::shared_ptr<const gv::cut_table> table;
-  with_connectivity(n, [&](auto conn) {
+  with_connectivity<3>(n, [&](auto conn) {
     gv::cut_set<3> all(g, conn);
     for (const auto& path : paths) {
       const std::string ext = lower_extension(path);
@@ -134,9 +133,7 @@ std::shared_ptr<const gv::cut_table> load_cuts(const std::vector<std::string>& p
       try {
         all.merge(gv::cut_from_mesh(g, conn, mesh));
       } catch (const std::invalid_argument& e) {
-        std::string m = e.what();
-        if (m.compare(0, 12, "geovoronoi: ") == 0) m.erase(0, 12);
-        throw usage_error(path + ": " + m);
+        throw usage_error(path + ": " + library_message(e));
       }
     }
     edges = all.size();
@@ -145,6 +142,52 @@ std::shared_ptr<const gv::cut_table> load_cuts(const std::vector<std::string>& p
   });
   return table;
 }
+
+/// An image_view of @p f, as the typed problems take their field.
+template <class T>
+gv::image_view<const T, 3> view(const gv::image<T, 3>& f) {
+  return gv::image_view<const T, 3>(f.geometry(), f.data());
+}
+
+/// The library refuses a grid when making a problem (make_problem(): a spacing whose edge lengths are
+/// 0 or infinite in T): the input's fault, exit 2.
+template <class F>
+decltype(auto) refusing_bad_grids(F&& f) {
+  try {
+    return f();
+  } catch (const std::invalid_argument& e) {
+    throw usage_error(library_message(e));
+  }
+}
+
+}  // namespace
+
+template <class T>
+std::unique_ptr<const typed_problem<T, 3>> job::problem_on(const gv::image<T, 3>& f, bool with_cuts) const {
+  const bool c = with_cuts && cuts;
+  const problem_key key{solver->id, metric, connectivity, c};
+  return refusing_bad_grids([&] { return make_typed_problem<T, 3>(key, view(f), c ? cuts.get() : nullptr); });
+}
+
+template std::unique_ptr<const typed_problem<float, 3>> job::problem_on(const gv::image<float, 3>&, bool) const;
+template std::unique_ptr<const typed_problem<double, 3>> job::problem_on(const gv::image<double, 3>&, bool) const;
+
+namespace {
+/// The run's backend, when --backend names none: choose_backend() for this problem (shape functions,
+/// as `shape-functions` and `cut --method` compute, share their searches among threads at any size);
+/// then the run's problem on it.
+template <class T>
+void make_problem_of(job& j, const arguments& a) {
+  if (!a.has("--backend"))
+    j.solver = &find_backend(refusing_bad_grids([&] {
+      return choose_backend<T, 3>(j.metric, j.connectivity, view(j.field_in<T>()), j.threads, a.has("--method"));
+    }));
+  auto p = j.problem_on<T>(j.field_in<T>(), true);
+  if constexpr (std::is_same_v<T, float>)
+    j.problem_float = std::move(p);
+  else
+    j.problem_double = std::move(p);
+}
 }  // namespace
 
 job load_job(const arguments& a) {
@@ -152,10 +195,8 @@ job load_job(const arguments& a) {
   j.stiffness_path = a.require("--stiffness");
   j.seeds_path = a.require("--seeds");
   j.out = a.require("--out");
-  j.metric = a.get("--metric", "min_stiffness");
-  with_metric(j.metric, [](auto) {});
-  j.connectivity = int(a.integer("--connectivity", 26, 0, 1000));
-  with_connectivity(j.connectivity, [](auto) {});
+  j.metric = parse_metric(a.get("--metric", "min_stiffness"));
+  j.connectivity = check_connectivity(int(a.integer("--connectivity", 26, 0, 1000)), 3);
   j.solver = &pick_backend(a);
   j.threads = use_threads(a);
   const std::string precision = precision_option(a);
@@ -175,7 +216,7 @@ job load_job(const arguments& a) {
     j.in_double = true;
   } else if (precision == "auto") {  // double only when float could overflow or lose a value
     with_metric(j.metric, [&](auto metric) {
-      with_connectivity(j.connectivity, [&](auto conn) {
+      with_connectivity<3>(j.connectivity, [&](auto conn) {
         j.in_double = gv::needs_double(j.field_double.geometry(), j.field_double.data(),
                                        std::size_t(j.field_double.size()), metric, conn);
       });
@@ -211,32 +252,14 @@ job load_job(const arguments& a) {
     j.seeds.push_back(c);
     j.seed_lines.push_back(r.line);
   }
-  if (!a.has("--backend")) {  // the default follows measurement, per problem (docs/backends.md)
-    bool gpu = false;
-    for (const auto& b : backends())
-      if (std::string(b.name) == "cuda" && b.built && b.unavailable().empty()) gpu = true;
-    // shape functions (shape-functions, cut --method) share their searches among threads at any size
-    const bool shape = a.has("--method");
-    with_precision(j, [&](auto t) {
-      with_problem(j.spec<decltype(t)>(), [&](const auto& p) {
-        const auto k = shape ? gv::recommended_shape_backend(p, thrust_threads(), gpu)
-                             : gv::recommended_backend(p, thrust_threads(), gpu);
-        for (const auto& b : backends())
-          if (b.built && std::string(b.name) == gv::to_string(k) && b.unavailable().empty()) j.solver = &b;
-      });
-    });
-  }
+  if (j.in_double)
+    make_problem_of<double>(j, a);
+  else
+    make_problem_of<float>(j, a);
   return j;
 }
 
 std::set<std::string> shape_arg_options() { return {"--method", "--nodes-per-voxel", "--picture-node"}; }
-
-gv::shape_method parse_method(const std::string& m) {
-  if (m == "distance-ratio" || m == "distance_ratio") return gv::shape_method::distance_ratio;
-  if (m == "sibson") return gv::shape_method::sibson;
-  if (m == "laplace") return gv::shape_method::laplace;
-  throw usage_error("unknown method '" + m + "' (distance-ratio, sibson or laplace)");
-}
 
 shape_args parse_shape_args(const arguments& a) {
   shape_args s;
@@ -253,42 +276,34 @@ void check_picture_node(const shape_args& s, const job& j) {
 }
 
 template <class T>
-gv::diagram<T, 3> solve_diagram(const job& j, const std::function<bool(double)>& progress) {
-  auto s = j.spec<T>();
-  s.progress = progress;
-  return solve_diagram(j, s);
-}
-
-template <class T>
-gv::diagram<T, 3> solve_diagram(const job& j, const problem_spec<T>& s) {
+gv::diagram<T, 3> solve_diagram(const job& j, const typed_problem<T, 3>& p, const gv::solve_options& opt) {
   auto d = [&] {
     try {
-      return j.solver->fns<T>().voronoi(s);
+      return p.voronoi(j.seeds, opt);
     } catch (const std::invalid_argument& e) {
       throw usage_error(locate_seed_error(e.what(), j.seeds_path, j.seed_lines));
     } catch (const gv::overflow_error& e) {
-      std::string m = e.what();
-      if (m.compare(0, 12, "geovoronoi: ") == 0) m.erase(0, 12);
-      throw usage_error(j.stiffness_path + ": " + m + " (on the command line: --precision double, or auto)");
+      throw usage_error(j.stiffness_path + ": " + library_message(e) +
+                        " (on the command line: --precision double, or auto)");
     }
   }();
   require_own_voxels(d, j.seeds_path, j.seed_lines);
   return d;
 }
 
-template gv::diagram<float, 3> solve_diagram(const job&, const std::function<bool(double)>&);
-template gv::diagram<double, 3> solve_diagram(const job&, const std::function<bool(double)>&);
-template gv::diagram<float, 3> solve_diagram(const job&, const problem_spec<float>&);
-template gv::diagram<double, 3> solve_diagram(const job&, const problem_spec<double>&);
+template gv::diagram<float, 3> solve_diagram(const job&, const typed_problem<float, 3>&, const gv::solve_options&);
+template gv::diagram<double, 3> solve_diagram(const job&, const typed_problem<double, 3>&, const gv::solve_options&);
 
 namespace {
 template <class T>
 void diagram_and_outputs(const job& j, output_dir& out, progress_bar& bar, const after_diagram<T>& more) {
   bar.update("voronoi", 0.0);
-  const auto d = solve_diagram<T>(j, [&](double x) {
+  gv::solve_options opt = j.options();
+  opt.progress = [&](double x) {
     bar.set_fraction(x);
     return true;
-  });
+  };
+  const auto d = solve_diagram(j, j.problem<T>(), opt);
   bar.update("writing");
   write_voronoi(out, d, j.field_in<T>(), j.pictures());
   if (more) more(j, d, out, bar);

@@ -1,13 +1,14 @@
 #pragma once
-// What `voronoi` and `shape-functions` share: the options, loading the field and the seeds, picking
-// the backend, solving the diagram with seed errors reported by file and line, writing the outputs.
+// What `voronoi`, `shape-functions` and `cut` share: the options, loading the field and the seeds,
+// choosing the backend, the run's typed problem (made once, typed_problem.hpp), solving the diagram
+// with seed errors reported by file and line, writing the outputs.
 
 #include "arguments.hpp"
 #include "backends.hpp"
 #include "output_dir.hpp"
 #include "outputs.hpp"
 #include "progress_bar.hpp"
-#include "solve.hpp"
+#include "typed_problem.hpp"
 
 #include <functional>
 #include <memory>
@@ -18,12 +19,14 @@
 
 namespace gvcli {
 
-/// Everything a solve needs, parsed (the seeds are checked by the library when solving).
+/// Everything a solve needs, parsed, and the run's problem (the seeds are checked by the library when
+/// solving).
 struct job {
-  std::string stiffness_path, seeds_path, metric = "min_stiffness", out;
+  std::string stiffness_path, seeds_path, out;
+  metric_id metric = metric_id::min_stiffness;
   int connectivity = 26;
   const backend* solver = nullptr;
-  /// `--threads N`, 0 without it (solve_options::threads).
+  /// `--threads N`, 0 without it (solve_options::threads, shape_options::threads).
   unsigned threads = 0;
   /// `--precision`: whether the whole pipeline runs in double (then field_double holds the field,
   /// else field does).
@@ -37,6 +40,9 @@ struct job {
   std::shared_ptr<const gv::cut_table> cuts;
   std::shared_ptr<const gv::cut_set<3>> cut_set;  ///< the same edges as a cut_set (for `cut`'s update)
   std::size_t cut_edges = 0;
+  /// The problem of the run (field, metric, connectivity, cuts) on its backend, in its precision.
+  std::unique_ptr<const typed_problem<float, 3>> problem_float;
+  std::unique_ptr<const typed_problem<double, 3>> problem_double;
 
   const gv::grid<3>& geometry() const noexcept { return in_double ? field_double.geometry() : field.geometry(); }
   const char* precision_name() const noexcept { return in_double ? "double" : "float"; }
@@ -48,11 +54,24 @@ struct job {
       return field_double;
   }
   template <class T>
-  problem_spec<T> spec() const {
-    return {field_in<T>(), seeds, metric, connectivity, threads, nullptr, cuts.get()};
+  const typed_problem<T, 3>& problem() const noexcept {
+    if constexpr (std::is_same_v<T, float>)
+      return *problem_float;
+    else
+      return *problem_double;
+  }
+  /// The run's problem on another field @p f (of the run's grid), with the run's cuts or without any:
+  /// `cut` solves the problem before and after its change. A grid the library refuses is a usage_error.
+  template <class T>
+  std::unique_ptr<const typed_problem<T, 3>> problem_on(const gv::image<T, 3>& f, bool with_cuts) const;
+  /// The options of a solve of this run (threads; the caller adds progress, parents).
+  gv::solve_options options() const {
+    gv::solve_options o;
+    o.threads = threads;
+    return o;
   }
   /// How its pictures are titled (metric, neighbours; lengths in the volume's unit).
-  picture_context pictures() const { return {metric, "LENGTH", connectivity}; }
+  picture_context pictures() const { return {metric_name(metric), "LENGTH", connectivity}; }
 };
 
 /// The options of voronoi plus @p extra (shape-functions adds its own).
@@ -69,41 +88,29 @@ struct shape_args {
   gv::shape_method method = gv::shape_method::distance_ratio;
   int k = 4;             ///< `--nodes-per-voxel K`, 1..64 (default 4)
   int picture_node = 0;  ///< `--picture-node N` (default 0), checked against the nodes by check_picture_node()
-  /// The library's options for them (progress and threads left to the caller).
-  gv::shape_options options() const {
+  /// The library's options for them in the run @p j (threads; progress left to the caller).
+  gv::shape_options options(const job& j) const {
     gv::shape_options o;
     o.method = method;
     o.max_nodes_per_voxel = k;
+    o.threads = j.threads;
     return o;
   }
 };
 /// The options of shape_args: --method, --nodes-per-voxel, --picture-node.
 std::set<std::string> shape_arg_options();
-/// `--method M`: distance-ratio (or distance_ratio), sibson or laplace; else a usage_error.
-gv::shape_method parse_method(const std::string& m);
 /// --method (required), --nodes-per-voxel and --picture-node of @p a; a usage_error when one is bad.
 shape_args parse_shape_args(const arguments& a);
 /// A usage_error when --picture-node names no node of @p j.
 void check_picture_node(const shape_args& s, const job& j);
 
-/// Calls f(T{}) with T = double when @p j runs in double, else float.
-template <class F>
-decltype(auto) with_precision(const job& j, F&& f) {
-  if (j.in_double) return f(double{});
-  return f(float{});
-}
-
-/// The diagram of @p j on its backend, in T; the library's seed errors (outside, masked, duplicate)
-/// come back as a usage_error naming the seed file and line, and so does a seed at geodesic distance 0
-/// from another (a zero-cost path joins them), which would have no cell of its own, and a distance
-/// that overflows T (geovoronoi::overflow_error: exit 2, suggesting --precision double).
-/// @p progress (may be empty) receives the solve's fraction done.
+/// The diagram of @p j on its backend, in T, on the problem @p p (the run's own, or one of
+/// job::problem_on()); the library's seed errors (outside, masked, duplicate) come back as a
+/// usage_error naming the seed file and line, and so does a seed at geodesic distance 0 from another
+/// (a zero-cost path joins them), which would have no cell of its own, and a distance that overflows
+/// T (geovoronoi::overflow_error: exit 2, suggesting --precision double).
 template <class T>
-gv::diagram<T, 3> solve_diagram(const job& j, const std::function<bool(double)>& progress = nullptr);
-/// The same for the problem @p s (a variant of j.spec<T>(): `cut` solves the problem before and after
-/// its change), with the job's seed file named in errors.
-template <class T>
-gv::diagram<T, 3> solve_diagram(const job& j, const problem_spec<T>& s);
+gv::diagram<T, 3> solve_diagram(const job& j, const typed_problem<T, 3>& p, const gv::solve_options& opt);
 
 /// What a command does after the diagram (the shape functions), in T.
 template <class T>

@@ -1,6 +1,7 @@
 #pragma once
 // What the geovoronoi tool writes: the Voronoi outputs and the shape-function outputs (docs/cli.md).
 
+#include "kinds.hpp"
 #include "output_dir.hpp"
 
 #include <geovoronoi.hpp>
@@ -10,13 +11,6 @@
 #include <string>
 
 namespace gvcli {
-
-namespace gv = geovoronoi;
-
-/// The method's name on the command line and as the demo's folder name.
-inline const char* method_name(gv::shape_method m) {
-  return m == gv::shape_method::distance_ratio ? "distance-ratio" : m == gv::shape_method::sibson ? "sibson" : "laplace";
-}
 
 /// How the pictures of a run are titled: the metric and neighbourhood, the distance's unit.
 struct picture_context {

@@ -11,7 +11,7 @@ namespace {
 int run(const std::vector<std::string>& args) {
   const arguments a(args, {}, {});
   for (const auto& b : backends()) {
-    const std::string state = b.built ? "built, " + b.describe() : "not built";
+    const std::string state = b.built() ? "built, " + b.describe() : "not built";
     std::printf("%-7s %s\n", b.name, state.c_str());
   }
   std::printf("default %s\n", default_backend().name);

@@ -94,30 +94,30 @@ double since(std::chrono::steady_clock::time_point t0) {
 
 /// The shape functions before and after the change (cut --method): the ones after from the library's
 /// update, checked against a full recompute on the backend; writes before/, after/ and
-/// changed_weights.mhd and prints both times.
+/// changed_weights.mhd and prints both times. @p before_p and @p after_p are the problems without and
+/// with the change.
 template <class T>
-void cut_shape(const job& j, const shape_args& sa, const problem_spec<T>& before_spec, const problem_spec<T>& after_spec,
-               const gv::diagram<T, 3>& before, const gv::diagram<T, 3>& after, const gv::change<3>& change,
-               output_dir& out, progress_bar& bar) {
+void cut_shape(const job& j, const shape_args& sa, const typed_problem<T, 3>& before_p,
+               const typed_problem<T, 3>& after_p, const gv::diagram<T, 3>& before, const gv::diagram<T, 3>& after,
+               const gv::change<3>& change, output_dir& out, progress_bar& bar) {
   const char* method = method_name(sa.method);
-  const auto& fns = j.solver->fns<T>();
-  gv::shape_options opt = sa.options();
+  gv::shape_options opt = sa.options(j);
   opt.progress = [&](double f) {
     bar.set_fraction(f);
     return true;
   };
   bar.update(std::string(method) + " before", 0.0);
-  const auto w_before = fns.shape(before_spec, before, opt);
+  const auto w_before = before_p.shape_functions(before, opt);
   bar.update(std::string(method) + " full recompute", 0.0);
   auto t0 = std::chrono::steady_clock::now();
-  const auto w_full = fns.shape(after_spec, after, opt);
+  const auto w_full = after_p.shape_functions(after, opt);
   const double t_full = since(t0);
   bar.update(std::string(method) + " update", 0.0);
   auto w_after = w_before;
   gv::shape_update_stats st;
   t0 = std::chrono::steady_clock::now();
   try {
-    st = fns.shape_update(after_spec, before, after, w_after, change, opt);
+    st = after_p.update_shape_functions_in_place(before, after, w_after, change, opt);
   } catch (const std::invalid_argument& e) {  // the inputs were checked: a bug in the tool or the library
     throw runtime_failure(std::string("internal error in the shape functions' update: ") + e.what());
   }
@@ -131,7 +131,7 @@ void cut_shape(const job& j, const shape_args& sa, const problem_spec<T>& before
   const std::size_t n_changed = write_changed_weights(out.subdir("."), w_before, w_after);
   std::printf("  weights update     %9.4f s  (%s, library update_shape_functions() on backend %s; %zu of %zu rows "
               "recomputed%s, %zu changed)\n",
-              t_update, method, fns.shape_update_backend, st.recomputed, st.rows,
+              t_update, method, backend_name(after_p.shape_update_backend()), st.recomputed, st.rows,
               st.full ? " (all: no smaller set is proven)" : "", n_changed);
   std::printf("  weights recompute  %9.4f s  (%s, shape_functions() on backend %s)  %.1fx; identical bit for bit "
               "(node and weight of every slot)\n",
@@ -148,23 +148,35 @@ void cut_in(const job& j, const carve_box* carve, const shape_args* shape, outpu
     for (const index_t v : carve->voxels) carved_field[v] = T(-1);
   }
   const gv::image<T, 3>& after_field = carve ? carved_field : field;
-  const problem_spec<T> before_spec{field, j.seeds, j.metric, j.connectivity, j.threads, nullptr, nullptr, true};
-  const problem_spec<T> cut_spec{field, j.seeds, j.metric, j.connectivity, j.threads, nullptr, j.cuts.get(), true};
-  const problem_spec<T> after_spec{after_field, j.seeds, j.metric, j.connectivity, j.threads, nullptr, j.cuts.get(), true};
+  // the problem without the change, with the cuts on the field before (the first update's), and
+  // with the whole change
+  const auto before_p = j.problem_on<T>(field, false);
+  const auto cut_p = j.problem_on<T>(field, true);
+  const auto after_p = j.problem_on<T>(after_field, true);
+  gv::solve_options opt = j.options();
+  opt.with_parent = true;
 
   bar.update("before");
-  const auto before = solve_diagram(j, before_spec);
+  const auto before = solve_diagram(j, *before_p, opt);
   bar.update("full recompute");
   auto t0 = std::chrono::steady_clock::now();
-  const auto full = solve_diagram(j, after_spec);
+  const auto full = solve_diagram(j, *after_p, opt);
   const double t_full = since(t0);
   bar.update("update");
   auto upd = before;
   std::size_t invalidated = 0;
   t0 = std::chrono::steady_clock::now();
-  try {
-    if (j.cut_set) invalidated += update_cuts(cut_spec, *j.cut_set, upd).invalidated;
-    if (carve) invalidated += update_carving(after_spec, carve->voxels, upd).invalidated;
+  try {  // the cut edges, then the carving: one update each
+    if (j.cut_set) {
+      gv::change<3> c;
+      c.cut = *j.cut_set;
+      invalidated += cut_p->update_in_place(upd, c).invalidated;
+    }
+    if (carve) {
+      gv::change<3> c;
+      c.carved = carve->voxels;
+      invalidated += after_p->update_in_place(upd, c).invalidated;
+    }
   } catch (const std::invalid_argument& e) {  // checked before: would be a bug in the tool or the library
     throw runtime_failure(std::string("internal error in the incremental update: ") + e.what());
   }
@@ -189,7 +201,7 @@ void cut_in(const job& j, const carve_box* carve, const shape_args* shape, outpu
     gv::change<3> change;
     if (j.cut_set) change.cut = *j.cut_set;
     if (carve) change.carved = carve->voxels;
-    cut_shape(j, *shape, before_spec, after_spec, before, upd, change, out, bar);
+    cut_shape(j, *shape, *before_p, *after_p, before, upd, change, out, bar);
   }
 }
 

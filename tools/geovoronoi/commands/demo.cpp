@@ -6,6 +6,7 @@
 #include "../output_dir.hpp"
 #include "../outputs.hpp"
 #include "../progress_bar.hpp"
+#include "../typed_problem.hpp"
 
 #include <geovoronoi/cut_from_mesh.hpp>
 #include <geovoronoi/io/metaimage.hpp>
@@ -102,16 +103,21 @@ int run(const std::vector<std::string>& args) {
   std::printf("demo: steak phantom %lldx%lldx%lld, %zu nodes, backend %s\n", (long long)g.extent(0),
               (long long)g.extent(1), (long long)g.extent(2), seeds.size(), backend_name.c_str());
   std::fflush(stdout);
-  // with parents: the cut step updates this diagram incrementally (update.hpp follows its tree)
-  const problem_spec<float> p{field, seeds, "min_stiffness", 26, threads, nullptr, nullptr, true};
+  const gv::image_view<const float, 3> fv(g, field.data());
+  const auto p = make_typed_problem<float, 3>({solver.id, metric_id::min_stiffness, 26, false}, fv);
   const picture_context pc{"min_stiffness", "MM", 26}, pcu{"uniform", "MM", 26};
+  gv::solve_options with_parents;
+  with_parents.threads = threads;
+  with_parents.with_parent = true;  // the cut step updates this diagram incrementally (update.hpp follows its tree)
   bar.update("voronoi");
   auto t0 = bar.seconds();
-  const auto d = solver.in_float.voronoi(p);
+  const auto d = p->voronoi(seeds, with_parents);
   std::printf("  voronoi          %7.2f s\n", bar.seconds() - t0);
   write_voronoi(out, d, field, pc);
   // the same seeds under the uniform metric, to show what the stiffness changes
-  const auto du = solver.in_float.voronoi({field, seeds, "uniform", 26, threads});
+  gv::solve_options plain;
+  plain.threads = threads;
+  const auto du = make_typed_problem<float, 3>({solver.id, metric_id::uniform, 26, false}, fv)->voronoi(seeds, plain);
   gio::write_png(out.file("labels_uniform.png"),
                  gio::label_picture(du.label, du.seeds, &field, pcu.options("VORONOI CELLS")));
   // side by side: the XY mid-slice under the uniform metric (left) and under min_stiffness (right),
@@ -131,9 +137,10 @@ int run(const std::vector<std::string>& args) {
   gv::shape_options opt;
   opt.method = gv::shape_method::distance_ratio;
   opt.max_nodes_per_voxel = 4;
+  opt.threads = threads;
   opt.progress = [&](double x) { bar.set_fraction(x); return true; };
   const gv::shape_options opt_dr = opt;
-  const auto w_dr = solver.in_float.shape(p, d, opt);  // kept for the cut step, which updates it
+  const auto w_dr = p->shape_functions(d, opt);  // kept for the cut step, which updates it
   const double t_dr = bar.seconds() - t0;
   std::printf("  %-16s %7.2f s (%lld voxels)\n", method_name(opt.method), t_dr, (long long)g.size());
   std::fflush(stdout);
@@ -146,17 +153,17 @@ int run(const std::vector<std::string>& args) {
   bar.update(method_name(gv::shape_method::sibson), 0.0);
   t0 = bar.seconds();
   opt.method = gv::shape_method::sibson;
-  point_spec slice;
+  std::vector<gv::coord<3>> slice;
   for (index_t y = 0; y < g.extent(1); ++y)
-    for (index_t x = 0; x < g.extent(0); ++x) slice.voxels.push_back({x, y, g.extent(2) / 2});
+    for (index_t x = 0; x < g.extent(0); ++x) slice.push_back({x, y, g.extent(2) / 2});
   {
-    const auto w = solver.in_float.shape_at(p, d, slice, opt);
+    const auto w = p->shape_functions_at(d, slice, opt);
     std::printf("  %-16s %7.2f s (%zu voxels: the slice z=%lld at full resolution)\n", method_name(opt.method),
-                bar.seconds() - t0, slice.voxels.size(), (long long)(g.extent(2) / 2));
+                bar.seconds() - t0, slice.size(), (long long)(g.extent(2) / 2));
     std::fflush(stdout);
     const std::string sub = out.subdir(method_name(opt.method));
     write_shape_at(sub, w);
-    write_seeds(sub + "/points.csv", slice.voxels, "stiffness.mhd (the points of weights_at_*; --at of shape-functions)");
+    write_seeds(sub + "/points.csv", slice, "stiffness.mhd (the points of weights_at_*; --at of shape-functions)");
     // node 0's weight on the slice
     auto o = pc.options("SIBSON SHAPE FUNCTION, FULL RESOLUTION, THIS SLICE ONLY");
     o.xy_only = true;
@@ -173,25 +180,22 @@ int run(const std::vector<std::string>& args) {
   blade.triangles = {{0, 1, 2}, {0, 2, 3}};
   const auto blade_set = gv::cut_from_mesh(g, gv::connectivity<26>{}, blade);
   const gv::cut_table blade_table(blade_set);
-  const problem_spec<float> p_cut{field, seeds, "min_stiffness", 26, threads, nullptr, &blade_table, true};
+  const auto p_cut = make_typed_problem<float, 3>({solver.id, metric_id::min_stiffness, 26, true}, fv, &blade_table);
+  gv::change<3> blade_change;
+  blade_change.cut = blade_set;
   t0 = bar.seconds();
   auto dc = d;
-  {  // this one problem type only (update_cuts() would instantiate every metric and connectivity)
-    const auto problem = gv::make_problem(g, field, gv::min_stiffness{}, gv::connectivity<26>{});
-    gv::update_in_place(gv::seq, gv::with_cuts(problem, blade_table), dc, blade_set);
-  }
+  p_cut->update_in_place(dc, blade_change);
   const double t_update = bar.seconds() - t0;
   t0 = bar.seconds();
-  require_equal(dc, solver.in_float.voronoi(p_cut));
+  require_equal(dc, p_cut->voronoi(seeds, with_parents));
   const double t_full = bar.seconds() - t0;
   // Distance Ratio after the cut: the weights before, updated (only the rows the cut can reach are
   // recomputed; bit for bit a full recompute, which tests/ and `geovoronoi cut --method` check)
   bar.update("cut: distance-ratio update", 0.0);
   t0 = bar.seconds();
   auto w_cut = w_dr;
-  gv::change<3> blade_change;
-  blade_change.cut = blade_set;
-  const auto st = solver.in_float.shape_update(p_cut, d, dc, w_cut, blade_change, opt_dr);
+  const auto st = p_cut->update_shape_functions_in_place(d, dc, w_cut, blade_change, opt_dr);
   const double t_weights = bar.seconds() - t0;
   {
     const std::string sub = out.subdir("cut");

@@ -66,15 +66,15 @@ std::string duration_text(double s) {
 
 /// Sibson and Laplace search a new cell per voxel; where the field is not constant (no distance-table
 /// shortcut) that is minutes to hours on a large volume. Before the full run, time the same queries on
-/// two samples on one thread and, when the extrapolation to every voxel on the run's @p threads passes a
-/// minute, say so in one line up front. A sample is whole 4x4x2 blocks of voxels around evenly spread
-/// queries: the full run searches such blocks together (32 queries per search where the library's lane
-/// search applies), and scattered single voxels would time one search per query, several times the
-/// cost per query of the run (8x on the steak). The larger sample holds the smaller one and as many
-/// blocks again; their difference cancels the fixed set-up cost.
-template <class T, class Fns, class Spec>
-void warn_if_long(const Fns& fns, const Spec& spec, const gv::diagram<T, 3>& d, gv::shape_options opt,
-                  const char* method, unsigned threads, progress_bar& bar) {
+/// two samples (with the run's options @p opt) and, when the extrapolation to every voxel on the run's
+/// @p threads passes a minute, say so in one line up front. A sample is whole 4x4x2 blocks of voxels
+/// around evenly spread queries: the full run searches such blocks together (32 queries per search
+/// where the library's lane search applies), and scattered single voxels would time one search per
+/// query, several times the cost per query of the run (8x on the steak). The larger sample holds the
+/// smaller one and as many blocks again; their difference cancels the fixed set-up cost.
+template <class T>
+void warn_if_long(const typed_problem<T, 3>& p, const gv::diagram<T, 3>& d, gv::shape_options opt, const char* method,
+                  unsigned threads, progress_bar& bar) {
   auto is_query = [&](gv::index_t v) {  // its weights come from a search: reached, not a node
     return d.distance[v] > T(0) && d.distance[v] < std::numeric_limits<T>::infinity();
   };
@@ -84,7 +84,7 @@ void warn_if_long(const Fns& fns, const Spec& spec, const gv::diagram<T, 3>& d, 
   if (queries.size() < 2000) return;  // a few thousand queries: seconds at most
   constexpr std::size_t blocks = 24;  // in the smaller sample; the larger has twice as many
   const auto& g = d.distance.geometry();
-  point_spec at;
+  std::vector<gv::coord<3>> at;
   auto add_blocks = [&](std::size_t first) {  // the blocks of anchors first, first + 2, ... of 2 x blocks
     for (std::size_t i = first; i < 2 * blocks; i += 2) {
       const auto c = g.coords(queries[(2 * i + 1) * queries.size() / (4 * blocks)]);
@@ -92,22 +92,21 @@ void warn_if_long(const Fns& fns, const Spec& spec, const gv::diagram<T, 3>& d, 
       for (gv::index_t z = z0; z < std::min(z0 + 2, g.extent(2)); ++z)
         for (gv::index_t y = y0; y < std::min(y0 + 4, g.extent(1)); ++y)
           for (gv::index_t x = x0; x < std::min(x0 + 4, g.extent(0)); ++x)
-            if (is_query(g.index({x, y, z}))) at.voxels.push_back({x, y, z});
+            if (is_query(g.index({x, y, z}))) at.push_back({x, y, z});
     }
   };
   auto time_sample = [&] {
     const auto t0 = std::chrono::steady_clock::now();
-    (void)fns.shape_at(spec, d, at, opt);
+    (void)p.shape_functions_at(d, at, opt);
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   };
   opt.progress = nullptr;
   opt.stats = nullptr;
-  opt.threads = 1;
   add_blocks(0);
-  const std::size_t n_small = at.voxels.size();
+  const std::size_t n_small = at.size();
   const double t_small = time_sample();
   add_blocks(1);
-  const std::size_t n_large = at.voxels.size();
+  const std::size_t n_large = at.size();
   const double t_large = time_sample();
   const double per_query = n_large > n_small && t_large > t_small ? (t_large - t_small) / double(n_large - n_small)
                                                                    : t_large / double(n_large);
@@ -131,23 +130,23 @@ int run(const std::vector<std::string>& args) {
   const shape_args sa = parse_shape_args(a);
   const auto method = sa.method;
   const std::string at_path = a.get("--at", "");
-  point_spec at;
+  std::vector<gv::coord<3>> at;
   // checked before any work: the node must exist, the points must parse and lie in the grid
   auto check = [&](const job& j) {
-    if (!at_path.empty()) at.voxels = read_points(at_path, a.has("--world"), j.geometry());
+    if (!at_path.empty()) at = read_points(at_path, a.has("--world"), j.geometry());
     check_picture_node(sa, j);
   };
   auto more = [&](const job& j, const auto& d, output_dir& out, progress_bar& bar) {
     bar.update(method_name(method), 0.0);
-    gv::shape_options opt = sa.options();
+    gv::shape_options opt = sa.options(j);
     opt.progress = [&](double f) {
       bar.set_fraction(f);
       return true;
     };
     using T = typename std::decay_t<decltype(d.distance)>::value_type;
-    const auto& fns = j.solver->fns<T>();
-    if (!at.voxels.empty()) {  // only the chosen points' rows
-      const auto w = fns.shape_at(j.spec<T>(), d, at, opt);
+    const auto& p = j.problem<T>();
+    if (!at.empty()) {  // only the chosen points' rows
+      const auto w = p.shape_functions_at(d, at, opt);
       bar.update("writing");
       write_shape_at(out.subdir("."), w);
       return;
@@ -155,10 +154,10 @@ int run(const std::vector<std::string>& args) {
     if (method != gv::shape_method::distance_ratio) {
       bar.update("estimating the work");
       const unsigned threads = std::string(j.solver->name) == "thrust" ? thrust_threads() : 1u;
-      warn_if_long(fns, j.spec<T>(), d, opt, method_name(method), threads, bar);
+      warn_if_long(p, d, opt, method_name(method), threads, bar);
       bar.update(method_name(method), 0.0);
     }
-    const auto w = fns.shape(j.spec<T>(), d, opt);
+    const auto w = p.shape_functions(d, opt);
     bar.update("writing");
     write_shape(out.subdir("."), w, d, sa.picture_node, j.pictures(), method_name(method));
   };

@@ -1,7 +1,0 @@
-// The float instantiations of the extension's wrappers with cut edges and of the updates (see cuts.hpp).
-#include "cuts.hpp"
-
-namespace gvpy {
-GEOVORONOI_PY_DECLARE(float, true, )
-GEOVORONOI_PY_DECLARE_UPDATE(float, )
-}  // namespace gvpy
