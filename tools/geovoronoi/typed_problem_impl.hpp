@@ -6,6 +6,7 @@
 
 #include "typed_problem.hpp"
 
+#include <geovoronoi/backend/any_host.hpp>
 #include <geovoronoi/backend/seq.hpp>
 
 #include <memory>
@@ -16,7 +17,9 @@
 namespace gvcli {
 
 /// P (a library problem) on backend Policy. With HostShapeUpdate the shape-function updates run on
-/// the host problem (seq) rather than on Policy: the CUDA backend's are host updates.
+/// the host problem (seq) rather than on Policy: the CUDA backend's are host updates. On a host
+/// backend the shape functions and the updates run through any_host_policy<P>, so that the host
+/// backends of one instance unit share one compiled copy of them.
 ///
 /// The updates are instantiated for problems with cuts only: a problem without cuts updates through
 /// the same problem with an empty cut table (made when first needed), which has every edge of the
@@ -33,15 +36,23 @@ class typed_problem_on final : public typed_problem<typename P::value_type, P::d
   typed_problem_on(const problem_key& k, const P& p, std::unique_ptr<base> host)
       : base(k), p_(p), host_(std::move(host)) {}
 
+  /// The policy the shape functions and the updates run on.
+  static auto shape_policy() {
+    if constexpr (gv::detail::hooks::queries_on_host<Policy>::value)
+      return gv::any_host_policy<P>(Policy{});
+    else
+      return Policy{};
+  }
+
   gv::diagram<T, Dim> voronoi(const std::vector<gv::coord<Dim>>& seeds, const gv::solve_options& opt) const override {
     return gv::voronoi(Policy{}, p_, seeds, opt);
   }
   gv::shape_weights<T, Dim> shape_functions(const gv::diagram<T, Dim>& d, const gv::shape_options& opt) const override {
-    return gv::shape_functions(Policy{}, p_, d, opt);
+    return gv::shape_functions(shape_policy(), p_, d, opt);
   }
   gv::point_weights<T> shape_functions_at(const gv::diagram<T, Dim>& d, const std::vector<gv::coord<Dim>>& points,
                                           const gv::shape_options& opt) const override {
-    return gv::shape_functions_at(Policy{}, p_, d, points, opt);
+    return gv::shape_functions_at(shape_policy(), p_, d, points, opt);
   }
   gv::update_stats update_in_place(gv::diagram<T, Dim>& d, const gv::change<Dim>& c) const override {
     if constexpr (!P::has_cuts)
@@ -60,7 +71,7 @@ class typed_problem_on final : public typed_problem<typename P::value_type, P::d
     else if constexpr (HostShapeUpdate)
       return host_->update_shape_functions_in_place(d_before, d_after, w, c, opt);
     else
-      return gv::update_shape_functions_in_place(Policy{}, p_, d_before, d_after, w, c, opt);
+      return gv::update_shape_functions_in_place(shape_policy(), p_, d_before, d_after, w, c, opt);
   }
   gv::shape_update_stats update_shape_functions_at_in_place(const gv::diagram<T, Dim>& d_before,
                                                             const gv::diagram<T, Dim>& d_after, gv::point_weights<T>& w,
@@ -71,7 +82,7 @@ class typed_problem_on final : public typed_problem<typename P::value_type, P::d
     else if constexpr (HostShapeUpdate)
       return host_->update_shape_functions_at_in_place(d_before, d_after, w, c, opt);
     else
-      return gv::update_shape_functions_at_in_place(Policy{}, p_, d_before, d_after, w, c, opt);
+      return gv::update_shape_functions_at_in_place(shape_policy(), p_, d_before, d_after, w, c, opt);
   }
   backend_id shape_update_backend() const noexcept override {
     return HostShapeUpdate ? backend_id::seq : this->key().backend;
