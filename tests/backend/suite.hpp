@@ -113,7 +113,7 @@ TEST_CASE("backend " GEOVORONOI_TEST_BACKEND_NAME ": equals the Bellman-Ford ora
   oracle_all_metrics<double, 3, 26>(20);
 }
 
-// ---- cut edges (issue 13) -------------------------------------------------------------------------
+// ---- cut edges --------------------------------------------------------------------------------------
 
 /// A problem with random cut edges against the oracle (which reads the cut table's plain lookup):
 /// distances and labels bit for bit, parents realise the key over an edge that is not cut.
@@ -403,7 +403,7 @@ TEST_CASE("backend " GEOVORONOI_TEST_BACKEND_NAME ": agrees with seq on a larger
   CHECK(a.parent.values() == b.parent.values());
 }
 
-// ---- overflow, progress, cancellation, threads (issue 12) -----------------------------------------
+// ---- overflow, progress, cancellation, threads ------------------------------------------------------
 
 /// A 2D strip, stiffness b everywhere (min_stiffness: every edge weighs length / b), seed at x = 0.
 inline gv::problem<float, 2, gv::min_stiffness, 4> strip_problem(const std::vector<float>& f, const gv::grid<2>& g) {
