@@ -106,10 +106,10 @@ class fused_lanes_padded {
     for (int k = 0; k < KV; ++k) delta_[k] = k < K ? g.delta()[k] : 0, len_[k] = k < K ? g.length()[k] : T(0);
 #ifdef GEOVORONOI_SIMD_AVX512
     wide_ = avx512 && __builtin_cpu_supports("avx512f");
-#else
-    (void)avx512;
     // a lane's facet count is at most 2 Dim times its cell's size: 32-bit lanes hold it below 2^31 / 6 voxels
     wide_facets_ = p.geometry.size() < (index_t(1) << 28);
+#else
+    (void)avx512;
 #endif
     const auto* in = g.data();
     for (std::size_t w = 0; w < key_.size(); ++w) {
