@@ -262,15 +262,21 @@ def section_machine(r):
             if m.get(k):
                 out.append(f"* {label}: {m[k]}")
         out.append("")
-    rows = []
-    for exe, threads, rnd, ctx in sorted(r.contexts, key=lambda c: (c[0], c[1] or 0, c[2] or 0)):
-        l3 = [c["size"] for c in ctx.get("caches", []) if c.get("level") == 3]
-        load = ctx.get("load_avg") or []
-        rows.append([exe, "" if threads is None else threads, "" if rnd is None else rnd, ctx.get("date", ""),
-                     f"{ctx.get('num_cpus', '')} x {ctx.get('mhz_per_cpu', '')} MHz",
-                     f"{l3[0] / 2**20:.0f} MiB" if l3 else "", " ".join(f"{x:.2f}" for x in load[:3])])
-    out.append(table(["executable", "OMP threads", "round", "started", "CPUs", "L3", "load average"], rows,
-                     ["---", "---:", "---:", "---", "---", "---:", "---"]))
+    # one line for every process of the run: the clock and cache Google Benchmark saw, the range of the
+    # 1-minute load average at each start (each JSON file holds its own)
+    clocks, l3s, loads = set(), set(), []
+    for _exe, _threads, _rnd, ctx in r.contexts:
+        clocks.add(f"{ctx.get('num_cpus', '')} x {ctx.get('mhz_per_cpu', '')} MHz")
+        l3s.update(f"{c['size'] / 2**20:.0f} MiB" for c in ctx.get("caches", []) if c.get("level") == 3)
+        if ctx.get("load_avg"):
+            loads.append(ctx["load_avg"][0])
+    if r.contexts:
+        line = f"* processes: {len(r.contexts)}; CPUs {', '.join(sorted(clocks))}"
+        if l3s:
+            line += f"; L3 {', '.join(sorted(l3s))}"
+        if loads:
+            line += f"; 1-minute load average at their starts {min(loads):.2f} to {max(loads):.2f}"
+        out.append(line + "\n")
     return "\n".join(out)
 
 
@@ -425,9 +431,13 @@ def section_sparse(r):
         dense = r.get(f"sparse/dense/seq/{c}")
         if not any(sts):
             continue
-        p64 = sts[2].counter("ns_per_voxel") if sts[2] else None
-        dn = dense.counter("ns_per_voxel") if dense else None
-        rows.append([f"{op} {c}"] + [fmt_num(s.counter("ns_per_voxel")) if s else "" for s in sts] +
+        # the counter is an inverted rate (kIsRate | kInvert): seconds per voxel, printed here in ns
+        def ns(st):
+            v = st.counter("ns_per_voxel") if st else None
+            return None if v is None else v * 1e9
+        p64 = ns(sts[2])
+        dn = ns(dense)
+        rows.append([f"{op} {c}"] + [fmt_num(ns(s)) if s else "" for s in sts] +
                     [fmt_num(dn), fmt_ratio(p64, dn)])
     out = ""
     if rows:
