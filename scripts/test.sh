@@ -36,7 +36,7 @@
 #   (which loses no finding: ASan and UBSan check every access and operation the code performs at
 #   any level); the tests run about four times slower, far less than the compile time saved;
 # - the sanitizer stage runs alongside the g++ build, its ctest and the Python stage (each of which
-#   leaves a core idle some of the time), and the four fuzzers run side by side, one per core.
+#   leaves a core idle some of the time), and the five fuzzers run side by side, one per core.
 
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -156,7 +156,7 @@ fi
 stage_done "sanitizer stage, rest"
 echo "   (the ASan + UBSan stage took $((SECONDS - san_start)) s from its start, alongside the stages above)"
 
-# ---- fuzzing: libFuzzer on the MetaImage, NumPy, PGM/PPM and STL/OBJ parsers ----
+# ---- fuzzing: libFuzzer on the MetaImage, NumPy, PGM/PPM and STL/OBJ parsers and the tool's seed/points reader ----
 # Built apart with clang in build-fuzz/ (only the fuzz targets), each run for a bounded time on a
 # copy of the seed corpus in tests/fuzz/corpus/, as many at once as there are cores (each fuzzer is
 # one process on one core, so running them side by side does not shorten any run). A crash,
@@ -167,7 +167,7 @@ if command -v clang++ >/dev/null 2>&1; then
   configure build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DGEOVORONOI_FUZZ=ON \
         -DGEOVORONOI_BUILD_BENCH=OFF -DGEOVORONOI_BUILD_TOOLS=OFF -DGEOVORONOI_BUILD_EXAMPLES=OFF \
         -DGEOVORONOI_THRUST=OFF -DGEOVORONOI_CUDA=OFF
-  cmake --build build-fuzz --target fuzz_metaimage fuzz_npy fuzz_pnm fuzz_mesh -j"$jobs"
+  cmake --build build-fuzz --target fuzz_metaimage fuzz_npy fuzz_pnm fuzz_mesh fuzz_points -j"$jobs"
   stage_done "fuzz build"
   fuzz_one() {
     local f=$1
@@ -176,7 +176,7 @@ if command -v clang++ >/dev/null 2>&1; then
     (cd build-fuzz && ./tests/fuzz_"$f" -max_total_time="$fuzz_seconds" -timeout=10 -rss_limit_mb=2048 \
        -max_len=4096 -print_final_stats=1 "corpus-$f" > "fuzz-$f.log" 2>&1)
   }
-  fuzzers=(metaimage npy pnm mesh)
+  fuzzers=(metaimage npy pnm mesh points)
   failed=()
   for ((i = 0; i < ${#fuzzers[@]}; i += jobs)); do
     pids=()

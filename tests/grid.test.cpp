@@ -163,6 +163,42 @@ TEST_CASE("grid: contains") {
   CHECK_FALSE(gv::grid<2>().contains({0, 0}));
 }
 
+TEST_CASE("grid: checked_nearest_voxel names the world point as given when its voxel is not in the grid") {
+  const gv::grid<3> g({4, 5, 6}, {2.0, 0.5, 1.0}, {-1.0, 3.0, 0.0});
+  CHECK(g.checked_nearest_voxel({1.0, 3.5, 5.0}) == gv::coord<3>{1, 1, 5});
+  CHECK(g.checked_nearest_voxel({-2.0, 2.75, -0.5}) == gv::coord<3>{0, 0, 0});  // halves up, still inside
+  auto message = [&](const gv::point<3>& p) {
+    try {
+      (void)g.checked_nearest_voxel(p);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no exception)");
+  };
+  // far outside: the point as given, never a clamped voxel such as (-1, 0, 0)
+  std::string m = message({1e30, 3.0, 0.0});
+  INFO(m);
+  CHECK(m.find("world point (1e+30, 3, 0)") != std::string::npos);
+  CHECK(m.find("outside the grid") != std::string::npos);
+  CHECK(m.find("index 5e+29 along x") != std::string::npos);
+  CHECK(m.find("(-1") == std::string::npos);
+  m = message({0.0, 3.0, 1e300});
+  CHECK(m.find("world point (0, 3, 1e+300)") != std::string::npos);
+  CHECK(m.find("along z") != std::string::npos);
+  m = message({nan_v<double>, 3.0, 0.0});
+  CHECK(m.find("world point (nan, 3, 0)") != std::string::npos);
+  CHECK(m.find("not a finite") != std::string::npos);
+  m = message({0.0, -inf_v<double>, 0.0});
+  CHECK(m.find("world point (0, -inf, 0)") != std::string::npos);
+  // just outside: the voxel it would be, and the grid's range
+  m = message({7.5, 3.0, 0.0});
+  CHECK(m.find("world point (7.5, 3, 0)") != std::string::npos);
+  CHECK(m.find("index 4 along x") != std::string::npos);
+  CHECK(m.find("0 to 3") != std::string::npos);
+  m = message({0.1, 3.0, 0.0});  // inside: no message
+  CHECK(m == "(no exception)");
+}
+
 TEST_CASE("grid: nearest_voxel rounds halves up and flags non-finite points as outside") {
   const gv::grid<2> g({4, 4}, {2.0, 0.5}, {-1.0, 3.0});
   CHECK(g.nearest_voxel({0.0, 3.25}) == gv::coord<2>{1, 1});    // both exactly halfway

@@ -93,6 +93,36 @@ TEST_CASE("overflow_error: double overflows too, and names double") {
   }
   CHECK(msg.find("overflows double") != std::string::npos);
   CHECK(msg.find("rescale") != std::string::npos);
+  // computing in double is what it already does: the advice is to rescale, never "use double"
+  CHECK(msg.find("compute in double") == std::string::npos);
+  CHECK(msg.find("double field") == std::string::npos);
+}
+
+TEST_CASE("overflow_error: a double field of 5e-324 (an edge weight of +inf in double) advises rescaling only") {
+  const gv::grid<2> g({4, 1});
+  std::vector<double> f(g.size(), 1.0);
+  f[2] = 5e-324;  // the smallest subnormal: 1 / 5e-324 is +inf
+  const auto p = gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<4>{});
+  std::string msg;
+  try {
+    (void)gv::voronoi(gv::seq, p, std::vector<gv::coord<2>>{{0, 0}});
+  } catch (const gv::overflow_error& e) {
+    msg = e.what();
+  }
+  INFO(msg);
+  CHECK(msg.find("is +inf in double") != std::string::npos);
+  CHECK(msg.find("rescale the field") != std::string::npos);
+  CHECK(msg.find("compute in double") == std::string::npos);
+  // in float the same advice names double first
+  const std::vector<float> ff(g.size(), 1e-45f);
+  const auto q = gv::make_problem(g, ff, gv::min_stiffness{}, gv::connectivity<4>{});
+  msg.clear();
+  try {
+    (void)gv::voronoi(gv::seq, q, std::vector<gv::coord<2>>{{0, 0}});
+  } catch (const gv::overflow_error& e) {
+    msg = e.what();
+  }
+  CHECK(msg.find("compute in double") != std::string::npos);
 }
 
 TEST_CASE("seq: a cancelled bounded solve leaves the workspace ready for the next call") {

@@ -2,6 +2,11 @@
 // tests/backend/shape/suite.hpp; other backends instantiate it from tests/backend/shape_<backend>.cmake hooks).
 #include <geovoronoi.hpp>
 
+#include <algorithm>
+#include <limits>
+#include <string>
+#include <vector>
+
 #define GEOVORONOI_SHAPE_BACKEND_NAME "seq"
 #define GEOVORONOI_SHAPE_POLICY() ::geovoronoi::seq
 #include "backend/shape/suite.hpp"
@@ -59,4 +64,86 @@ TEST_CASE("shape functions: max_nodes_per_voxel is capped at max_nodes_per_voxel
   o.max_nodes_per_voxel = gv::max_nodes_per_voxel_limit;
   const auto w = gv::shape_functions(gv::seq, p, d, o);
   CHECK(w.k == 1024);
+}
+
+TEST_CASE("shape functions: a node at geodesic distance 0 from another (zero-cost field) is named as such") {
+  // under mean_cost a field of 0 joins every voxel at distance 0: voronoi() gives node 1 no cell (the
+  // lower index wins the tie), which is the field's doing, not a diagram from elsewhere
+  namespace gv = geovoronoi;
+  const gv::grid<2> g({6, 5});
+  const std::vector<float> f(std::size_t(g.size()), 0.0f);
+  const auto p = gv::make_problem(g, f, gv::mean_cost{}, gv::connectivity<8>{});
+  const auto d = gv::voronoi(gv::seq, p, std::vector<gv::coord<2>>{{0, 0}, {5, 4}});
+  for (const auto m : {gv::shape_method::sibson, gv::shape_method::laplace, gv::shape_method::distance_ratio}) {
+    gv::shape_options o;
+    o.method = m;
+    std::string what;
+    try {
+      (void)gv::shape_functions(gv::seq, p, d, o);
+    } catch (const std::invalid_argument& e) {
+      what = e.what();
+    }
+    INFO(what);
+    CHECK(what.find("node 1 (voxel 29) is at geodesic distance 0 from node 0") != std::string::npos);
+    CHECK(what.find("zero-weight") != std::string::npos);
+    CHECK(what.find("use geovoronoi::voronoi") == std::string::npos);
+  }
+  // a diagram whose node voxel carries another label at a positive distance did not come from voronoi()
+  const std::vector<float> ones(std::size_t(g.size()), 1.0f);
+  auto e = gv::voronoi(gv::seq, gv::make_problem(g, ones, gv::mean_cost{}, gv::connectivity<8>{}),
+                       std::vector<gv::coord<2>>{{0, 0}, {5, 4}});
+  e.label[29] = 0;
+  e.distance[29] = 1.0f;
+  CHECK_THROWS_WITH_AS(gv::shape_functions(gv::seq, p, e, gv::shape_options{}),
+                       doctest::Contains("use geovoronoi::voronoi"), std::invalid_argument);
+}
+
+TEST_CASE("shape functions: world points whose voxel is outside the grid are named as given") {
+  namespace gv = geovoronoi;
+  const gv::grid<2> g({6, 5});
+  const std::vector<float> f(std::size_t(g.size()), 1.0f);
+  const auto p = gv::make_problem(g, f, gv::min_stiffness{}, gv::connectivity<8>{});
+  const auto d = gv::voronoi(gv::seq, p, std::vector<gv::coord<2>>{{0, 0}, {5, 4}});
+  const std::vector<gv::point<2>> ok{{1.0, 1.0}}, far{{1.0, 1.0}, {1e30, 2.0}},
+      nan{{std::numeric_limits<double>::quiet_NaN(), 1.0}};
+  CHECK(gv::shape_functions_at(gv::seq, p, d, ok).points == 1);
+  CHECK_THROWS_WITH_AS(gv::shape_functions_at(gv::seq, p, d, far),
+                       doctest::Contains("point 1: world point (1e+30, 2) lies outside the grid"), std::invalid_argument);
+  CHECK_THROWS_WITH_AS(gv::shape_functions_at(gv::seq, p, d, nan), doctest::Contains("world point (nan, 1)"),
+                       std::invalid_argument);
+}
+
+TEST_CASE("shape functions: Sibson and Laplace progress moves while the sample queries run") {
+  // The query loop runs the first search of every task first (the sample of its estimate): a quarter of
+  // all queries with the lane search. Progress must move during it, not jump at its end.
+  namespace gv = geovoronoi;
+  const gv::grid<3> g({24, 24, 24});
+  const auto f = gv::phantom::gradient(g);
+  const auto p = gv::make_problem(g, f.values(), gv::min_stiffness{}, gv::connectivity<26>{});
+  std::vector<gv::coord<3>> seeds;
+  for (gv::index_t i = 0; i < 8; ++i) seeds.push_back({3 + 6 * (i % 3), 3 + 7 * ((i / 3) % 3), 4 + 5 * (i % 4)});
+  const auto d = gv::voronoi(gv::seq, p, seeds);
+  for (const auto m : {gv::shape_method::laplace, gv::shape_method::sibson}) {
+    gv::shape_options o;
+    o.method = m;
+    o.skip_single_owner_rows = false;
+    const auto plain = gv::shape_functions(gv::seq, p, d, o);
+    std::vector<double> seen;
+    o.batch_size = 256;  // a report every 256 queries: about 50 here
+    o.progress = [&](double x) {
+      seen.push_back(x);
+      return true;
+    };
+    const auto w = gv::shape_functions(gv::seq, p, d, o);
+    CHECK(w.node == plain.node);  // reporting changes no result
+    CHECK(w.weight == plain.weight);
+    REQUIRE(seen.size() > 10);
+    CHECK(std::is_sorted(seen.begin(), seen.end()));
+    CHECK(seen.back() == 1.0);
+    const auto first_moved = std::find_if(seen.begin(), seen.end(), [](double x) { return x > 0.0; });
+    REQUIRE(first_moved != seen.end());
+    INFO("first fraction above 0: " << *first_moved);
+    CHECK(*first_moved < 0.05);
+    CHECK(std::count_if(seen.begin(), seen.end(), [](double x) { return x > 0.0 && x < 0.2; }) >= 3);
+  }
 }

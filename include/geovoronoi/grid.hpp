@@ -10,6 +10,8 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
 #include <limits>
 #include <string>
 
@@ -33,6 +35,16 @@ using direction_matrix = std::array<double, Dim * Dim>;
 inline constexpr double direction_tolerance = 1e-6;
 
 namespace detail {
+/// The shortest decimal text that reads back as @p x ("0.1", "1e+30", "nan", "-inf"), for messages.
+inline std::string shortest_text(double x) {
+  char buf[40];
+  for (int prec = 6; prec <= 17; ++prec) {
+    std::snprintf(buf, sizeof buf, "%.*g", prec, x);
+    if (!(x == x) || std::strtod(buf, nullptr) == x) break;
+  }
+  return buf;
+}
+
 /// The identity direction.
 template <int Dim>
 GEOVORONOI_HOST_DEVICE constexpr direction_matrix<Dim> identity_direction() noexcept {
@@ -216,6 +228,35 @@ class grid {
       c[a] = (f >= -9.0e18 && f <= 9.0e18) ? static_cast<index_t>(f) : index_t(-1);
     }
     return c;
+  }
+
+  /**
+   * @brief nearest_voxel(p), checked: the voxel must lie in the grid.
+   * @throws std::invalid_argument naming the world point as given (not a voxel it rounds to, which
+   *         may be meaningless far outside), and the first axis along which it leaves the grid with
+   *         its index there and the grid's range; or saying that the point is not finite.
+   */
+  coord<Dim> checked_nearest_voxel(const point<Dim>& p) const {
+    const coord<Dim> c = nearest_voxel(p);
+    bool finite = true;
+    for (int a = 0; a < Dim; ++a) finite = finite && std::isfinite(p[a]);
+    std::string given = "world point (";
+    for (int a = 0; a < Dim; ++a) given += (a ? ", " : "") + detail::shortest_text(p[a]);
+    given += ")";
+    if (!finite) throw std::invalid_argument(given + " is not a finite point");
+    if (contains(c)) return c;
+    for (int a = 0; a < Dim; ++a) {
+      double u = 0.0;
+      for (int r = 0; r < Dim; ++r)
+        if (direction_[r * Dim + a] != 0.0) u += direction_[r * Dim + a] * (p[r] - origin_[r]);
+      const double f = std::floor(u / spacing_[a] + 0.5);
+      if (f >= 0.0 && f < static_cast<double>(extents_[a])) continue;
+      const char* axis[] = {"x", "y", "z"};
+      throw std::invalid_argument(given + " lies outside the grid: its nearest voxel centre has index " +
+                                  detail::shortest_text(f) + " along " + axis[a] + ", where the grid's indices run 0 to " +
+                                  std::to_string(extents_[a] - 1));
+    }
+    throw std::invalid_argument(given + " lies outside the grid");
   }
 
   /// Grids are equal when extents, spacing, origin and direction are equal.

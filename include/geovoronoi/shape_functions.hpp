@@ -230,7 +230,8 @@ point_weights<typename P::value_type> shape_functions_at(const Policy& policy, c
 /**
  * @brief shape_functions_at() at world points, each rounded to the nearest voxel centre (as
  *        seeds_from_world: grid::nearest_voxel, floor(x + 0.5) per axis, so halves round up).
- * @throws std::invalid_argument for a point whose nearest voxel centre lies outside the grid.
+ * @throws std::invalid_argument for a point that is not finite or whose nearest voxel centre lies
+ *         outside the grid, naming the point as given (grid::checked_nearest_voxel).
  */
 template <class Policy, class P>
 point_weights<typename P::value_type> shape_functions_at(const Policy& policy, const P& problem,

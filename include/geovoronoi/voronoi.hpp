@@ -228,8 +228,10 @@ query_cell<typename P::value_type> insert_query(const Policy& policy, const P& p
   return c;
 }
 
-/// @brief Voxel coordinates of world points, each rounded to the nearest voxel centre (unchecked:
-///        the solvers reject those outside the grid).
+/// @brief Voxel coordinates of world points, each rounded to the nearest voxel centre
+///        (grid::nearest_voxel).
+/// @throws std::invalid_argument naming the seed and the world point as given when a point is not
+///         finite or its voxel lies outside the grid (grid::checked_nearest_voxel).
 template <int Dim>
 std::vector<coord<Dim>> seeds_from_world(const grid<Dim>& g,
                                          const typename detail::same_type<std::vector<point<Dim>>>::type& points) {
@@ -237,7 +239,13 @@ std::vector<coord<Dim>> seeds_from_world(const grid<Dim>& g,
   // std::array's size parameter is a std::size_t and Dim an int.
   std::vector<coord<Dim>> out;
   out.reserve(points.size());
-  for (const auto& x : points) out.push_back(g.nearest_voxel(x));
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    try {
+      out.push_back(g.checked_nearest_voxel(points[i]));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("geovoronoi::seeds_from_world: seed " + std::to_string(i) + ": " + e.what());
+    }
+  }
   return out;
 }
 

@@ -306,6 +306,8 @@ NB_MODULE(_geovoronoi, m) {
   nb::register_exception_translator([](const std::exception_ptr& p, void*) {
     try {
       std::rethrow_exception(p);
+    } catch (const gio::out_of_memory& e) {
+      PyErr_SetString(PyExc_MemoryError, e.what());
     } catch (const gio::io_error& e) {
       PyErr_SetString(PyExc_OSError, e.what());
     } catch (const gv::cancelled& e) {

@@ -195,6 +195,87 @@ if(leftovers)
   fail("zero-cost runs left outputs behind: ${leftovers}")
 endif()
 
+# ---- every file a run reads is safe from --out, whoever names it -----------------------------------
+# The swap replaces DIR as a whole: a header's data file inside DIR (the header outside), an --at
+# points file inside DIR, are inputs like the ones named on the command line.
+run(od_make 0 voronoi ${S} --seeds seeds.csv --backend seq --out od)
+string(REPEAT "d" 120 raw_bytes)  # 12 x 10 voxels of MET_UCHAR 100 ('d')
+file(WRITE ${WORK}/od/field.raw "${raw_bytes}")
+file(WRITE ${WORK}/hdr.mhd "ObjectType = Image\nNDims = 2\nDimSize = 12 10\nElementType = MET_UCHAR\nElementDataFile = od/field.raw\n")
+file(WRITE ${WORK}/seeds2d.csv "2,2\n9,7\n")
+run(out_holds_data_file 2 voronoi --stiffness hdr.mhd --seeds seeds2d.csv --backend seq --out od)
+one_line(out_holds_data_file "contains the input")
+if(NOT EXISTS ${WORK}/od/field.raw)
+  fail("the data file inside --out (its header outside) was deleted")
+endif()
+file(WRITE ${WORK}/od/pts.csv "1,1,0\n3,3,2\n")
+run(out_holds_points 2 shape-functions ${S} --seeds seeds.csv --method distance-ratio --backend seq --at od/pts.csv --out od)
+one_line(out_holds_points "contains the input")
+if(NOT EXISTS ${WORK}/od/pts.csv)
+  fail("the --at points file inside --out was deleted")
+endif()
+no_leftovers(reads_inside_out)
+
+# ---- errors that name their cause ------------------------------------------------------------------
+# world points far outside: the point as given, never a clamped voxel
+file(WRITE ${WORK}/far.csv "1e30,0,0\n")
+run(world_far_seed 2 voronoi ${S} --seeds far.csv --world --out x9)
+one_line(world_far_seed "far.csv:1: the seed at world point (1e+30, 0, 0) lies outside the grid")
+string(FIND "${ERR_world_far_seed}" "(-1" clamped)
+if(NOT clamped EQUAL -1)
+  fail("a far world seed is reported as a clamped voxel: ${ERR_world_far_seed}")
+endif()
+file(WRITE ${WORK}/far_points.csv "1,1,0\n1e300,2,0\n")
+run(world_far_point 2 shape-functions ${S} --seeds seeds.csv --method distance-ratio --at far_points.csv --world --out x10)
+one_line(world_far_point "far_points.csv:2: the point at world point (1e+300, 2, 0) lies outside the grid")
+# a token of 100,000 digits is echoed cut
+string(REPEAT "7" 100000 digits)
+file(WRITE ${WORK}/long.csv "2,2,1\n${digits},1,1\n")
+run(long_token 2 voronoi ${S} --seeds long.csv --out x11)
+one_line(long_token "(100000 bytes)")
+string(LENGTH "${ERR_long_token}" long_len)
+if(long_len GREATER 400)
+  fail("a 100,000-digit seed field gives a ${long_len}-byte error line")
+endif()
+# bytes that are not UTF-8 (a C1 control) are escaped
+string(ASCII 155 c1)  # the byte 0x9b: the 8-bit CSI of some terminals, not UTF-8
+file(WRITE ${WORK}/c1.csv "2,2,1\n3,${c1}31m,1\n")
+run(c1_bytes 2 voronoi ${S} --seeds c1.csv --out x12)
+one_line(c1_bytes "\\x9b31m")
+# --at a folder or a FIFO: named as a points file
+run(at_folder 2 shape-functions ${S} --seeds seeds.csv --method distance-ratio --at seeddir --out x13)
+one_line(at_folder "seeddir: is a folder, not a points file")
+if(MKFIFO)
+  run(at_fifo 2 shape-functions ${S} --seeds seeds.csv --method distance-ratio --at fifo.csv --out x14)
+  one_line(at_fifo "a points file must be a file")
+endif()
+# --out: a name longer than a file system allows, a parent that is a file
+string(REPEAT "n" 300 long_name)
+run(out_long_name 2 voronoi ${S} --seeds seeds.csv --out ${long_name})
+one_line(out_long_name "is 300 bytes long; a file system allows 255 bytes per name")
+run(out_parent_file 2 voronoi ${S} --seeds seeds.csv --out stiff.pgm/o)
+one_line(out_parent_file "stiff.pgm is a file, not a folder")
+file(GLOB leftovers LIST_DIRECTORIES true ${WORK}/x[0-9]*)
+if(leftovers)
+  fail("runs that name their cause left outputs behind: ${leftovers}")
+endif()
+
+# ---- contracts ------------------------------------------------------------------------------------
+# a --cut mesh that misses the grid (another unit) warns with both bounds, and the run goes on
+file(WRITE ${WORK}/far.obj "v 1000 2000 -5000\nv 1000 8000 -5000\nv 1000 8000 5000\nf 1 2 3\n")
+run(cut_misses 0 voronoi ${S} --seeds seeds.csv --backend seq --cut far.obj --out out-cut-misses)
+one_line(cut_misses "warning: far.obj: the mesh cuts no edge of the grid, so it changes nothing: the mesh spans x 1000 to 1000, y 2000 to 8000, z -5000 to 5000; the grid's voxel centres span x 0 to 11, y 0 to 9, z 0 to 3")
+# several --carve boxes: their union
+run(carve_two 0 cut ${S} --seeds seeds.csv --backend seq --carve 5:5,0:9,0:3 --carve 7:7,0:9,0:3 --carve 7:7,0:1,0:0 --out out-carve-two)
+string(FIND "${OUT_carve_two}" " 80 carved voxels" carved)
+if(carved EQUAL -1)
+  fail("two --carve boxes of 40 voxels each did not carve 80: ${OUT_carve_two}")
+endif()
+file(GLOB leftovers LIST_DIRECTORIES true ${WORK}/x[0-9]*)
+if(leftovers)
+  fail("contract runs left outputs behind: ${leftovers}")
+endif()
+
 # ---- OMP_NUM_THREADS far beyond the machine: clamped, with a note -------------------------------
 set(big "P2\n40 40\n255\n")
 foreach(y RANGE 39)
@@ -203,6 +284,15 @@ foreach(y RANGE 39)
 endforeach()
 file(WRITE ${WORK}/big.pgm "${big}")
 file(WRITE ${WORK}/big.csv "2,2,1\n30,20,20\n10,35,38\n")
+
+# out of memory is exit 1 wherever it happens (here: a picture extruded beyond a 1 GB address space)
+execute_process(COMMAND sh -c "ulimit -v 1000000 && exec \"$0\" voronoi --stiffness big.pgm --extrude 100000 --seeds big.csv --backend seq --out x15" ${GEOVORONOI}
+                WORKING_DIRECTORY ${WORK} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 120)
+set(ERR_oom "${err}")
+if(NOT rc STREQUAL "1")
+  fail("out of memory (--extrude 100000 under ulimit -v): exit ${rc}, expected 1: ${err}")
+endif()
+one_line(oom "geovoronoi: failed: big.pgm: out of memory")
 foreach(b ${BUILT})
   if(b STREQUAL "cuda")
     continue()
@@ -216,6 +306,18 @@ foreach(b ${BUILT})
     fail("OMP_NUM_THREADS=100000: no note about the clamp: ${err}")
   endif()
 endforeach()
+
+# 0 or a negative count (which the OpenMP runtime refuses): clamped to 1, with a note, exit 0
+if("thrust" IN_LIST BUILT)
+  foreach(n 0 -3)
+    execute_process(COMMAND ${CMAKE_COMMAND} -E env OMP_NUM_THREADS=${n}
+                            ${GEOVORONOI} voronoi ${S} --seeds seeds.csv --backend thrust --out out-omp-n
+                    WORKING_DIRECTORY ${WORK} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 120)
+    if(NOT rc STREQUAL "0" OR NOT err MATCHES "note: OMP_NUM_THREADS=${n} is not a thread count \\(1 or more\\); using 1")
+      fail("OMP_NUM_THREADS=${n}: exit ${rc}, no note about the clamp: ${err}")
+    endif()
+  endforeach()
+endif()
 
 # --threads N: a usage error outside 1 .. 4 x hardware threads; the same bits for every N
 run(threads_zero 2 voronoi ${S} --seeds seeds.csv --threads 0 --out x5)

@@ -137,6 +137,62 @@ TEST_CASE("STL: binary, and telling it from ASCII") {
   }
 }
 
+TEST_CASE("STL: an ASCII file with a NUL byte that is not binary either fails as ASCII, naming the line") {
+  // read as binary, the text would be a truncated file of hundreds of millions of triangles
+  std::string s = ascii_stl;
+  s.replace(s.find("vertex 1 0 0"), 12, std::string("vertex 1 0\0 0", 13));
+  std::string what;
+  try {
+    gio::parse_stl("nul.stl", bytes_of(s));
+  } catch (const gio::io_error& e) {
+    what = e.what();
+  }
+  INFO(what);
+  CHECK(what.find("nul.stl: ASCII STL line 5") != std::string::npos);
+  CHECK(what.find("NUL") != std::string::npos);
+  CHECK(what.find("not binary STL either") != std::string::npos);
+  CHECK(what.find("million") == std::string::npos);
+  CHECK(what.find("truncated") == std::string::npos);
+  // a binary file whose header starts with "solid" and whose size matches its count stays binary
+  const std::vector<std::array<float, 9>> tris{{0, 0, 0, 1, 0, 0, 0, 1, 0}};
+  auto b = binary_stl("solid x", tris);
+  CHECK(gio::parse_stl("b.stl", b).triangles.size() == 1);
+}
+
+TEST_CASE("STL, OBJ: a huge token is echoed cut to a readable length") {
+  const std::string token(1 << 20, '9');
+  std::string s = ascii_stl;
+  s.replace(s.find("1.5e0"), 5, token + "x");
+  std::string what;
+  try {
+    gio::parse_stl("long.stl", bytes_of(s));
+  } catch (const gio::io_error& e) {
+    what = e.what();
+  }
+  INFO(what.substr(0, 300));
+  CHECK(what.find("line 6") != std::string::npos);
+  CHECK(what.find("(1048577 bytes)") != std::string::npos);
+  CHECK(what.size() < 300);
+  what.clear();
+  try {
+    gio::parse_obj("long.obj", bytes_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 " + token + "\n"));
+  } catch (const gio::io_error& e) {
+    what = e.what();
+  }
+  INFO(what.substr(0, 300));
+  CHECK(what.find("line 4") != std::string::npos);
+  CHECK(what.find("(1048576 bytes)") != std::string::npos);
+  CHECK(what.size() < 300);
+  // bytes that are not UTF-8 are escaped
+  what.clear();
+  try {
+    gio::parse_obj("c1.obj", bytes_of("v 0 \x9b" "31m 0\n"));
+  } catch (const gio::io_error& e) {
+    what = e.what();
+  }
+  CHECK(what.find("\\x9b31m") != std::string::npos);
+}
+
 TEST_CASE("OBJ: vertices, faces of every corner form, negative indices, fans") {
   const std::string obj =
       "# a comment\n"

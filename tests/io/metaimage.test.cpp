@@ -498,4 +498,80 @@ TEST_CASE("metaimage: running out of memory names the size and the file") {
   }
   alloc_probe::fail_from = 0;
   CHECK(thrown);
+  // the error is io::out_of_memory (an io_error), so that a program tells it from a bad file
+  alloc_probe::fail_from = 100000;
+  CHECK_THROWS_AS(gio::read_metaimage<double>(scratch("oom.mha")), gio::out_of_memory);
+  alloc_probe::fail_from = 0;
+}
+
+TEST_CASE("metaimage: headers with CR-only line endings (classic Mac) are read like LF and CRLF ones") {
+  const std::uint8_t bytes[] = {1, 2, 3, 4, 5, 6};
+  io_test::write_bytes(scratch("cr.raw"), "", bytes, sizeof bytes);
+  const std::string lines[] = {"ObjectType = Image", "NDims = 2", "DimSize = 3 2", "ElementSpacing = 0.5 2",
+                               "ElementType = MET_UCHAR", "ElementDataFile = cr.raw"};
+  for (const char* eol : {"\n", "\r\n", "\r"}) {
+    std::string h;
+    for (const auto& l : lines) h += l + eol;
+    io_test::write_text(scratch("cr.mhd"), h);
+    INFO("line ending " << (eol[0] == '\r' ? (eol[1] ? "CRLF" : "CR") : "LF"));
+    const auto v = gio::read_metaimage<int>(scratch("cr.mhd"));
+    CHECK(v.data == std::vector<int>{1, 2, 3, 4, 5, 6});
+    CHECK(v.extents == std::array<index_t, 3>{3, 2, 1});
+    CHECK(v.spacing[1] == 2.0);
+    // LOCAL data right after the ElementDataFile line's CR (its first byte may be a LF: data, not a line end)
+    std::string local;
+    for (std::size_t i = 0; i + 1 < std::size(lines); ++i) local += lines[i] + eol;
+    local += std::string("ElementDataFile = LOCAL") + eol;
+    const std::uint8_t data[] = {10, 13, 10, 7, 8, 9};
+    io_test::write_bytes(scratch("cr.mha"), local, data, sizeof data);
+    const auto w = gio::read_metaimage<int>(scratch("cr.mha"));
+    CHECK(w.data == std::vector<int>{10, 13, 10, 7, 8, 9});
+  }
+}
+
+TEST_CASE("io::read_log: every file a reader opens is recorded, the data file a header names included") {
+  const std::uint8_t bytes[] = {1, 2};
+  std::filesystem::create_directories(scratch("logged"));
+  io_test::write_bytes(scratch("logged/field.raw"), "", bytes, sizeof bytes);
+  io_test::write_text(scratch("logged.mhd"),
+                      "NDims = 2\nDimSize = 2 1\nElementType = MET_UCHAR\nElementDataFile = logged/field.raw\n");
+  gio::read_log outer;
+  {
+    gio::read_log log;
+    (void)gio::read_metaimage<float>(scratch("logged.mhd"));
+    CHECK(log.paths() == std::vector<std::string>{scratch("logged.mhd"), scratch("logged/field.raw")});
+    CHECK_THROWS_AS(gio::read_metaimage<float>(scratch("no-such.mhd")), gio::io_error);  // tried: recorded too
+    CHECK(log.paths().size() == 3);
+    (void)gio::read_file(scratch("logged/field.raw"));
+    CHECK(log.paths().back() == scratch("logged/field.raw"));
+  }
+  // every live log of the thread sees the reads made while it lives
+  CHECK(outer.paths().size() == 4);
+  (void)gio::read_metaimage_header(scratch("logged.mhd"));
+  CHECK(outer.paths().size() == 5);
+}
+
+TEST_CASE("metaimage: a header value echoed in a message is cut to a readable length and escaped") {
+  const std::string huge(100000, 'X');
+  io_test::write_text(scratch("longtype.mha"), "NDims = 1\nDimSize = 2\nElementType = MET_" + huge +
+                                                   "\nElementDataFile = LOCAL\n");
+  std::string what;
+  try {
+    gio::read_metaimage<float>(scratch("longtype.mha"));
+  } catch (const gio::io_error& e) {
+    what = e.what();
+  }
+  INFO(what);
+  CHECK(what.find("unknown ElementType") != std::string::npos);
+  CHECK(what.find("100004 bytes") != std::string::npos);
+  CHECK(what.size() < 400);
+  io_test::write_text(scratch("c1.mha"), "NDims = 1\nDimSize = 2\nElementType = MET_\x9b" "31m\xff\nElementDataFile = LOCAL\n");
+  what.clear();
+  try {
+    gio::read_metaimage<float>(scratch("c1.mha"));
+  } catch (const gio::io_error& e) {
+    what = e.what();
+  }
+  INFO(what);
+  CHECK(what.find("MET_\\x9b31m\\xff") != std::string::npos);
 }

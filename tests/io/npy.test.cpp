@@ -124,6 +124,15 @@ TEST_CASE("npy: bad files throw io_error naming the file and the problem") {
   expect_io_error(read(file("noshape.npy", "{'descr': '<f4', 'fortran_order': False, }")), "noshape.npy", "shape");
   expect_io_error(read(file("badshape.npy", "{'descr': '<f4', 'fortran_order': False, 'shape': (2, x), }")), "badshape.npy", "dimension");
   expect_io_error(read(file("fo.npy", "{'descr': '<f4', 'fortran_order': Maybe, 'shape': (4,), }")), "fo.npy", "fortran_order");
+  // exactly True or False, as NumPy's own reader (ast.literal_eval, then a bool check) requires: a
+  // value such as 'NotTrue' read as True would silently reverse the axes
+  for (const char* bad : {"NotTrue", "Falsey", "TrueFalse", "'True'", "1", "true"}) {
+    INFO(bad);
+    expect_io_error(read(file("fo2.npy", std::string("{'descr': '<f4', 'fortran_order': ") + bad + ", 'shape': (4,), }")),
+                    "fo2.npy", "fortran_order");
+  }
+  CHECK(gio::read_npy<float>(file("fo3.npy", "{'descr': '<f4', 'fortran_order':True, 'shape': (4,), }")).fortran_order);
+  CHECK_FALSE(gio::read_npy<float>(file("fo4.npy", "{'descr': '<f4', 'fortran_order':  False , 'shape': (4,)}")).fortran_order);
   expect_io_error(read(file("4d.npy", "{'descr': '<f4', 'fortran_order': False, 'shape': (1, 1, 2, 2), }")), "4d.npy", "dimensions");
   expect_io_error(read(file("zero.npy", "{'descr': '<f4', 'fortran_order': False, 'shape': (0, 4), }", 0)), "zero.npy", "empty");
   std::string h = npy_header("{'descr': '<f4', 'fortran_order': False, 'shape': (4,), }");

@@ -12,6 +12,7 @@
 #include "output_dir.hpp"  // runtime_failure, is_output_failure
 #include "usage_error.hpp"
 
+#include <geovoronoi/error.hpp>
 #include <geovoronoi/io/common.hpp>
 
 #include <algorithm>
@@ -30,23 +31,10 @@
 
 namespace gvcli {
 
-/// @p s with every control byte (below 0x20, and 0x7f) written as \xNN, so a message stays one line
+/// The whole of @p s, escaped as the library escapes what it echoes (geovoronoi::printable without a
+/// limit): control bytes, C1 controls and bytes that are not UTF-8 as \xNN, so a message stays one line
 /// and never sends terminal escape sequences read from an input file.
-inline std::string printable(const std::string& s) {
-  std::string out;
-  out.reserve(s.size());
-  for (const char c : s) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", unsigned(u));
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out;
-}
+inline std::string printable(const std::string& s) { return geovoronoi::printable(s, std::string::npos); }
 
 /// Refuses an input that is not a regular file before anything opens it: a folder is an error (not
 /// an empty file), a FIFO, socket or device would block or never end.
@@ -65,19 +53,29 @@ inline int max_threads() {
 }
 
 /// OMP_NUM_THREADS beyond max_threads() (e.g. 100000, which crashes the OpenMP runtime when it starts
-/// that many threads) is clamped, with a note on stderr. Call before any parallel region.
+/// that many threads) is clamped to it, and 0 or a negative count (which the runtime refuses) to 1,
+/// with a note on stderr. Call before any parallel region.
 inline void clamp_thread_count() {
   const char* env = std::getenv("OMP_NUM_THREADS");
   if (!env || !*env) return;
   errno = 0;
   char* end = nullptr;
   const long long n = std::strtoll(env, &end, 10);  // the first entry of a list such as "8,2"
-  if (end == env || (errno != ERANGE && n <= max_threads())) return;
+  if (end == env) return;
+  const bool too_many = errno == ERANGE ? n > 0 : n > max_threads();
+  if (!too_many && n >= 1) return;
+  const int use = too_many ? max_threads() : 1;
+  // (GNU libgomp reads the variable when it is loaded, before main(): for 0 or a negative count it has
+  // already printed its own "Invalid value" line and taken its default, which this overrides)
 #if defined(_OPENMP)
-  omp_set_num_threads(max_threads());
+  omp_set_num_threads(use);
 #endif
-  std::fprintf(stderr, "geovoronoi: note: OMP_NUM_THREADS=%s is more than 4 x the %u hardware threads; using %d\n",
-               printable(env).c_str(), std::max(1u, std::thread::hardware_concurrency()), max_threads());
+  if (too_many)
+    std::fprintf(stderr, "geovoronoi: note: OMP_NUM_THREADS=%s is more than 4 x the %u hardware threads; using %d\n",
+                 printable(env).c_str(), std::max(1u, std::thread::hardware_concurrency()), use);
+  else
+    std::fprintf(stderr, "geovoronoi: note: OMP_NUM_THREADS=%s is not a thread count (1 or more); using 1\n",
+                 printable(env).c_str());
 }
 
 /// The message of the library's exception @p e without its "geovoronoi: " prefix (the tool's error
@@ -98,6 +96,9 @@ inline int report_current_exception() noexcept {
     code = 2, message = e.what();
   } catch (const runtime_failure& e) {
     code = 1, message = e.what();
+  } catch (const geovoronoi::io::out_of_memory& e) {  // the input may be fine: memory ran out, exit 1
+    code = 1, message = e.what();
+    is_output_failure(message);
   } catch (const geovoronoi::io::io_error& e) {
     message = e.what();
     code = is_output_failure(message) ? 1 : 2;  // writing an output failed: 1; a bad input file: 2

@@ -11,10 +11,12 @@
 #include <geovoronoi/precision.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <regex>
 #include <thread>
 
@@ -118,10 +120,43 @@ std::set<std::string> solve_flags() { return {"--world"}; }
 std::set<std::string> solve_repeatable() { return {"--cut"}; }
 
 namespace {
+/// "x A to B, y C to D, z E to F" of a bounding box, for messages.
+std::string bounds_text(const std::array<double, 3>& lo, const std::array<double, 3>& hi) {
+  std::string s;
+  char buf[80];
+  for (std::size_t a = 0; a < 3; ++a) {
+    std::snprintf(buf, sizeof buf, "%s%c %g to %g", a ? ", " : "", "xyz"[a], lo[a], hi[a]);
+    s += buf;
+  }
+  return s;
+}
+
+/// The note for a mesh that cuts no grid edge: its bounds and the grid's (the voxel centres' box), so
+/// that a mesh in other units (mm against m) or in another frame is seen at once.
+std::string no_cut_note(const std::string& path, const gv::triangle_mesh& mesh, const gv::grid<3>& g) {
+  std::array<double, 3> mlo, mhi, glo, ghi;
+  mlo.fill(std::numeric_limits<double>::infinity());
+  mhi.fill(-std::numeric_limits<double>::infinity());
+  glo = mlo, ghi = mhi;
+  for (const auto& v : mesh.vertices)
+    for (std::size_t a = 0; a < 3; ++a) mlo[a] = std::min(mlo[a], v[a]), mhi[a] = std::max(mhi[a], v[a]);
+  for (int corner = 0; corner < 8; ++corner) {
+    gv::coord<3> c;
+    for (int a = 0; a < 3; ++a) c[a] = ((corner >> a) & 1) ? g.extent(a) - 1 : 0;
+    const auto w = g.world(c);
+    for (std::size_t a = 0; a < 3; ++a) glo[a] = std::min(glo[a], w[a]), ghi[a] = std::max(ghi[a], w[a]);
+  }
+  return "warning: " + path + ": the mesh cuts no edge of the grid, so it changes nothing: the mesh spans " +
+         bounds_text(mlo, mhi) + "; the grid's voxel centres span " + bounds_text(glo, ghi) +
+         " (world coordinates: another unit or frame?)";
+}
+
 /// The cut edges of every `--cut MESH` (.stl or .obj, world coordinates) on grid @p g under
-/// connectivity @p n: one cut_set per mesh, merged, then the solvers' hash table.
+/// connectivity @p n: one cut_set per mesh, merged, then the solvers' hash table. A mesh that cuts no
+/// edge adds a warning to @p notes.
 std::shared_ptr<const gv::cut_table> load_cuts(const std::vector<std::string>& paths, const gv::grid<3>& g, int n,
-                                               std::size_t& edges, std::shared_ptr<const gv::cut_set<3>>& set) {
+                                               std::size_t& edges, std::shared_ptr<const gv::cut_set<3>>& set,
+                                               std::vector<std::string>& notes) {
   std::shared_ptr<const gv::cut_table> table;
   with_connectivity<3>(n, [&](auto conn) {
     gv::cut_set<3> all(g, conn);
@@ -131,7 +166,9 @@ std::shared_ptr<const gv::cut_table> load_cuts(const std::vector<std::string>& p
       require_regular_file(path, "a cut mesh");
       const auto mesh = gio::read_mesh(path);
       try {
-        all.merge(gv::cut_from_mesh(g, conn, mesh));
+        auto one = gv::cut_from_mesh(g, conn, mesh);
+        if (one.size() == 0) notes.push_back(no_cut_note(path, mesh, g));
+        all.merge(one);
       } catch (const std::invalid_argument& e) {
         throw usage_error(path + ": " + library_message(e));
       }
@@ -234,7 +271,7 @@ job load_job(const arguments& a) {
   }
   const auto& g = j.geometry();
   j.cut_paths = a.all("--cut");
-  if (!j.cut_paths.empty()) j.cuts = load_cuts(j.cut_paths, g, j.connectivity, j.cut_edges, j.cut_set);
+  if (!j.cut_paths.empty()) j.cuts = load_cuts(j.cut_paths, g, j.connectivity, j.cut_edges, j.cut_set, j.notes);
   const bool world = a.has("--world");
   for (const auto& r : read_seed_rows(j.seeds_path, !world)) {
     const std::string where = j.seeds_path + ":" + std::to_string(r.line) + ": seed ";
@@ -242,7 +279,11 @@ job load_job(const arguments& a) {
       throw usage_error(where + "has 2 values but the volume has " + std::to_string(g.extent(2)) + " slices");
     gv::coord<3> c;
     if (world) {
-      c = g.nearest_voxel({r.x[0], r.x[1], r.x[2]});
+      try {  // the point as given, not a voxel it would round to
+        c = g.checked_nearest_voxel({r.x[0], r.x[1], r.x[2]});
+      } catch (const std::invalid_argument& e) {
+        throw usage_error(j.seeds_path + ":" + std::to_string(r.line) + ": the seed at " + e.what());
+      }
     } else {
       for (int k = 0; k < 3; ++k) {
         if (std::abs(r.x[k]) > 9e15) throw usage_error(where + "coordinate out of range");
@@ -283,8 +324,9 @@ gv::diagram<T, 3> solve_diagram(const job& j, const typed_problem<T, 3>& p, cons
     } catch (const std::invalid_argument& e) {
       throw usage_error(locate_seed_error(e.what(), j.seeds_path, j.seed_lines));
     } catch (const gv::overflow_error& e) {
+      // in double the library's advice (rescale) is all there is; in float the flags come first
       throw usage_error(j.stiffness_path + ": " + library_message(e) +
-                        " (on the command line: --precision double, or auto)");
+                        (std::is_same_v<T, float> ? " (on the command line: --precision double, or auto)" : ""));
     }
   }();
   require_own_voxels(d, j.seeds_path, j.seed_lines);
@@ -314,11 +356,11 @@ int solve_and_write(const char* command, const arguments& a, const std::function
                     const after_diagram<float>& more_float, const after_diagram<double>& more_double) {
   progress_bar bar(std::string("geovoronoi ") + command);
   bar.update("reading");
+  const gio::read_log reads;  // every file the run reads: none may lie inside --out
   const job j = load_job(a);
+  for (const auto& n : j.notes) bar.note(std::string("geovoronoi ") + command + ": " + n);
   if (check) check(j);
-  std::vector<std::string> inputs{j.stiffness_path, j.seeds_path};
-  inputs.insert(inputs.end(), j.cut_paths.begin(), j.cut_paths.end());
-  output_dir out(j.out, inputs, std::string("geovoronoi ") + command);
+  output_dir out(j.out, reads, std::string("geovoronoi ") + command);
   if (j.in_double)
     diagram_and_outputs<double>(j, out, bar, more_double);
   else

@@ -40,6 +40,8 @@ struct job {
   std::shared_ptr<const gv::cut_table> cuts;
   std::shared_ptr<const gv::cut_set<3>> cut_set;  ///< the same edges as a cut_set (for `cut`'s update)
   std::size_t cut_edges = 0;
+  /// Warnings found while loading (a --cut mesh that cuts no edge), printed by the command as notes.
+  std::vector<std::string> notes;
   /// The problem of the run (field, metric, connectivity, cuts) on its backend, in its precision.
   std::unique_ptr<const typed_problem<float, 3>> problem_float;
   std::unique_ptr<const typed_problem<double, 3>> problem_double;

@@ -13,7 +13,9 @@
 // fails with one line (exit 1), so one run wins whole.
 //
 // Checks before anything is computed (usage errors, exit 2): DIR is not a file or a dangling link,
-// its parent exists and a folder can be created in it, DIR does not contain an input file, and an
+// its names fit the file system, its parent exists and a folder can be created in it, DIR does not
+// contain a file the run read (any file recorded by the run's io::read_log: checked again at the
+// commit, for files read meanwhile), and an
 // existing non-empty DIR carries the marker file of a geovoronoi output (so `--out ~` can never wipe a
 // folder of the user's own files).
 //
@@ -24,6 +26,9 @@
 // same DIR removes partial folders whose process is gone.
 
 #include "usage_error.hpp"
+
+#include <geovoronoi/error.hpp>
+#include <geovoronoi/io/common.hpp>
 
 #include <atomic>
 #include <cerrno>
@@ -241,17 +246,29 @@ inline bool is_output_failure(std::string& message) {
 /// The output folder of one run, see the top of this file.
 class output_dir {
  public:
-  /// Checks @p dir (the --out value) against the rules above and creates the partial folder;
-  /// @p inputs are the run's input files, which must not lie inside it.
-  explicit output_dir(const std::string& dir, const std::vector<std::string>& inputs = {},
-                      std::string command = "geovoronoi")
-      : shown_(dir), command_(std::move(command)) {
+  /// Checks @p dir (the --out value) against the rules above and creates the partial folder. No file
+  /// that @p reads recorded (every file the run read: inputs, a header's data file, points, meshes)
+  /// may lie inside it; checked here and again at commit(), for files read in between.
+  output_dir(const std::string& dir, const geovoronoi::io::read_log& reads, std::string command = "geovoronoi")
+      : shown_(dir), command_(std::move(command)), reads_(&reads) {
     if (dir.empty()) throw usage_error("--out needs a folder name");
     std::string d = dir;
     while (d.size() > 1 && d.back() == '/') d.pop_back();  // `--out newdir/` names newdir
     fs::path p(d);
     if (p.filename() == "." || p.filename() == ".." || p == p.root_path())
       throw usage_error(dir + ": --out must name a folder to create or replace, not '.', '..' or '/'");
+    // a name longer than a file system allows (255 bytes; the folder's own name also carries the
+    // .partial-<pid> suffix while the run writes aside) fails every later step with a vaguer message
+    for (const auto& part : p) {
+      const std::string n = part.string();
+      const std::size_t limit = part == p.filename() ? max_name - partial_suffix_room : max_name;
+      if (n.size() > limit)
+        throw usage_error(dir + ": the name '" + geovoronoi::printable(n) + "' is " + std::to_string(n.size()) +
+                          " bytes long; a file system allows " + std::to_string(max_name) + " bytes per name" +
+                          (part == p.filename() ? " (less " + std::to_string(partial_suffix_room) +
+                                                      " for the .partial-<pid> suffix of the folder written aside)"
+                                                : std::string()));
+    }
     std::error_code ec;
     const auto ls = fs::symlink_status(p, ec);
     if (fs::is_symlink(ls)) {
@@ -265,18 +282,8 @@ class output_dir {
     }
     final_ = fs::absolute(p, ec).lexically_normal();
     const fs::path parent = final_.parent_path();
-    if (!fs::is_directory(parent, ec))
-      throw usage_error(dir + ": the parent folder " + parent.string() + " does not exist");
-    // an input inside DIR (or DIR itself) would be deleted by the swap
-    for (const auto& in : inputs) {
-      const fs::path ip = fs::weakly_canonical(fs::absolute(in, ec), ec);
-      const fs::path fp = fs::weakly_canonical(final_, ec);
-      auto f = fp.begin(), i = ip.begin();
-      while (f != fp.end() && i != ip.end() && *f == *i) ++f, ++i;
-      if (f == fp.end())
-        throw usage_error(dir + ": the output folder contains the input " + in +
-                          " (the folder is replaced as a whole); choose another --out");
-    }
+    check_parent(dir, p, parent);
+    check_reads();
     if (fs::is_directory(final_, ec) && !fs::is_empty(final_, ec) && !fs::exists(final_ / output_marker(), ec))
       throw usage_error(dir + ": exists and holds files that geovoronoi did not write (no " + output_marker() +
                         " marker); --out replaces the whole folder, so name a new or empty folder");
@@ -284,10 +291,6 @@ class output_dir {
     if (parent_fd_ < 0) throw usage_error(dir + ": cannot open the parent folder: " + std::strerror(errno));
     name_ = final_.filename().string();
     partial_name_ = name_ + ".partial-" + std::to_string(::getpid());
-    if (partial_name_.size() >= sizeof(detail::partial().name)) {
-      ::close(parent_fd_);
-      throw usage_error(dir + ": folder name too long");
-    }
     {
       detail::folder_lock lock(parent_fd_);
       clean_abandoned();
@@ -322,6 +325,7 @@ class output_dir {
 
   /// Puts the finished outputs in place as a whole, or throws runtime_failure and leaves DIR as it was.
   void commit() {
+    check_reads();  // a file read since the start must not be swapped away either
     {
       const std::string marker = file(output_marker());
       std::ofstream m(marker);
@@ -358,6 +362,45 @@ class output_dir {
   }
 
  private:
+  static constexpr std::size_t max_name = 255;            // NAME_MAX of Linux's file systems
+  static constexpr std::size_t partial_suffix_room = 20;  // ".partial-" and a pid of up to 11 digits
+
+  /// The parent folder of the output must exist and be a folder: a one-line error naming what it is
+  /// instead (missing, a file, a path the system cannot handle).
+  void check_parent(const std::string& dir, const fs::path& given, const fs::path& parent) const {
+    struct stat st;
+    if (::stat(parent.c_str(), &st) == 0) {
+      if (S_ISDIR(st.st_mode)) return;
+      throw usage_error(dir + ": the parent " + parent.string() + " is a file, not a folder");
+    }
+    const int e = errno;
+    if (e == ENAMETOOLONG)
+      throw usage_error(dir + ": the folder's absolute path " + std::string(given.is_absolute() ? "" : "(from the working folder) ") +
+                        "is " + std::to_string(final_.string().size()) +
+                        " bytes long, more than the system handles (PATH_MAX, 4096 bytes on Linux); use a shorter path");
+    if (e == ENOTDIR)
+      throw usage_error(dir + ": the parent " + parent.string() + " does not exist (a part of its path is a file, not a folder)");
+    if (e == ENOENT) throw usage_error(dir + ": the parent folder " + parent.string() + " does not exist");
+    throw usage_error(dir + ": the parent folder " + parent.string() + " cannot be used: " + std::strerror(e));
+  }
+
+  /// No file the run read (reads_) lies inside the output folder, which the swap replaces as a whole.
+  void check_reads() const {
+    std::error_code ec;
+    const fs::path fp = fs::weakly_canonical(final_, ec);
+    if (ec) throw usage_error(shown_ + ": cannot resolve the folder's path: " + ec.message());
+    for (const auto& in : reads_->paths()) {
+      std::error_code ei;
+      fs::path ip = fs::weakly_canonical(fs::absolute(in, ei), ei);
+      if (ei) ip = fs::absolute(in).lexically_normal();
+      auto f = fp.begin(), i = ip.begin();
+      while (f != fp.end() && i != ip.end() && *f == *i) ++f, ++i;
+      if (f == fp.end())
+        throw usage_error(shown_ + ": the output folder contains the input " + in +
+                          " (the folder is replaced as a whole); choose another --out");
+    }
+  }
+
   [[noreturn]] void fail(const std::string& what) const {
     throw runtime_failure(shown_ + ": " + what + ": " + std::strerror(errno));
   }
@@ -408,6 +451,7 @@ class output_dir {
   }
 
   std::string shown_, command_;
+  const geovoronoi::io::read_log* reads_;
   fs::path final_, temp_;
   std::string name_, partial_name_;
   int parent_fd_ = -1;

@@ -1,5 +1,7 @@
 #pragma once
 // The geovoronoi tool's progress bar on stderr.
+#include <geovoronoi/error.hpp>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -12,16 +14,16 @@
 
 namespace gvcli {
 
-/// Progress on stderr. On a terminal: a bar redrawn in place once the run has lasted > 1 s. Otherwise
-/// (a log file, a pipe): a plain line every 10 s once the run has lasted 10 s, so a long run in a batch
-/// job still says where it is. Both show the time left, estimated from the current phase's rate, once
-/// the phase has run 2 s and done 1 % (the libraries' fractions follow the work done, not the count of
-/// queries or nodes, see docs/shape-functions.md).
+/// Progress on stderr, only when stderr is a terminal: a bar redrawn in place once the run has lasted
+/// > 1 s, with the time left, estimated from the current phase's rate, once the phase has run 2 s and
+/// done 1 % (the libraries' fractions follow the work done, not the count of queries or nodes, see
+/// docs/shape-functions.md). Elsewhere (a log file, a pipe) nothing: stderr then holds only the notes
+/// and warnings of note(), and a failure's one line.
 class progress_bar {
  public:
   explicit progress_bar(std::string what)
       : what_(std::move(what)), start_(clock::now()), phase_start_(start_), tty_(isatty(2) != 0) {
-    ticker_ = std::thread([this] { run(); });
+    if (tty_) ticker_ = std::thread([this] { run(); });
   }
   ~progress_bar() { finish(); }
   progress_bar(const progress_bar&) = delete;
@@ -35,11 +37,12 @@ class progress_bar {
     fraction_ = fraction;
   }
   void set_fraction(double f) { fraction_ = f; }
-  /// One line on stderr (a warning or a note), on its own line even while the bar is drawn.
+  /// One line on stderr (a warning or a note), on its own line even while the bar is drawn; escaped
+  /// as the error line is (geovoronoi::printable), since it may name input files.
   void note(const std::string& line) {
     std::lock_guard<std::mutex> lock(print_mutex_);
     if (drawn_ && tty_) std::fprintf(stderr, "\r\033[K");
-    std::fprintf(stderr, "%s\n", line.c_str());
+    std::fprintf(stderr, "%s\n", geovoronoi::printable(line, std::string::npos).c_str());
     std::fflush(stderr);
   }
   double seconds() const { return std::chrono::duration<double>(clock::now() - start_).count(); }
@@ -69,7 +72,7 @@ class progress_bar {
     while (!stop_) {
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
       const double now = seconds();
-      if (stop_ || now < (tty_ ? 1.0 : 10.0)) continue;
+      if (stop_ || now < 1.0) continue;
       std::string phase;
       double phase_seconds;
       {
@@ -81,15 +84,6 @@ class progress_bar {
       std::lock_guard<std::mutex> print_lock(print_mutex_);
       std::string left = time_left(phase_seconds, f);
       if (!left.empty()) left = ", " + left;
-      if (!tty_) {  // a plain line every 10 s
-        if (now < next_plain_) continue;
-        next_plain_ = now + 10.0;
-        if (f < 0) std::fprintf(stderr, "%s: %s, %.0f s\n", what_.c_str(), phase.c_str(), now);
-        else std::fprintf(stderr, "%s: %s %d%%, %.0f s%s\n", what_.c_str(), phase.c_str(), int(f * 100), now, left.c_str());
-        std::fflush(stderr);
-        drawn_ = true;
-        continue;
-      }
       char bar[41];
       const int filled = f < 0 ? 0 : int(std::min(1.0, f) * 40);
       for (int i = 0; i < 40; ++i) bar[i] = i < filled ? '#' : (f < 0 ? ' ' : '.');
@@ -106,7 +100,6 @@ class progress_bar {
   clock::time_point start_;
   clock::time_point phase_start_;  // guarded by mutex_
   bool tty_;
-  double next_plain_ = 0.0;  // the ticker thread's only
   std::mutex mutex_;
   std::mutex print_mutex_;  // one writer at a time on stderr; guards drawn_
   std::string phase_ = "starting";

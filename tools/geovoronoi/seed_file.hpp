@@ -5,10 +5,15 @@
 #include "errors.hpp"  // require_regular_file
 #include "usage_error.hpp"
 
+#include <geovoronoi/error.hpp>
+#include <geovoronoi/io/common.hpp>
+
 #include <cmath>
-#include <cstdio>
+#include <cstdint>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
+#include <system_error>
 #include <vector>
 
 namespace gvcli {
@@ -20,26 +25,10 @@ struct seed_row {
   int line = 0;
 };
 
-/// Reads `i,j,k` (or `x,y,z` in world units) per line; `#` starts a comment; blank lines are skipped.
-/// Two values are accepted for single-slice volumes (k = 0). A UTF-8 byte-order mark at the start
-/// (Excel's "CSV UTF-8") is skipped. A folder, FIFO, socket or device is refused before it is opened.
-inline std::vector<seed_row> read_seed_rows(const std::string& path, bool integers) {
-  require_regular_file(path, "a seed file");
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) throw usage_error(path + ": cannot open the seed file");
-  std::string text;
-  char buf[4096];
-  std::size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) {
-    text.append(buf, n);
-    if (text.size() > (std::size_t(1) << 30)) {
-      std::fclose(f);
-      throw usage_error(path + ": seed file larger than 1 GiB");
-    }
-  }
-  const bool read_error = std::ferror(f) != 0;
-  std::fclose(f);
-  if (read_error) throw usage_error(path + ": cannot read the seed file");
+/// The rows of the seed (or points) file @p text, named @p path in messages (read_seed_rows() without
+/// the reading; the fuzzer drives it on any bytes). A usage_error names the line of a bad row.
+inline std::vector<seed_row> parse_seed_rows(const std::string& path, const std::string& text, bool integers,
+                                             const std::string& what = "seed file") {
   std::vector<seed_row> rows;
   std::size_t pos = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;
   int line = 0;
@@ -66,9 +55,9 @@ inline std::vector<seed_row> read_seed_rows(const std::string& path, bool intege
       char* stop = nullptr;
       const double v = std::strtod(field.c_str(), &stop);
       if (field.empty() || *stop != '\0' || !std::isfinite(v))
-        throw usage_error(path + ":" + std::to_string(line) + ": '" + field + "' is not a number");
+        throw usage_error(path + ":" + std::to_string(line) + ": '" + geovoronoi::printable(field) + "' is not a number");
       if (integers && (v != std::floor(v) || field.find_first_of(".eE") != std::string::npos))
-        throw usage_error(path + ":" + std::to_string(line) + ": '" + field +
+        throw usage_error(path + ":" + std::to_string(line) + ": '" + geovoronoi::printable(field) +
                           "' is not an integer voxel index (use --world for physical coordinates)");
       r.x[r.count++] = v;
       if (comma == std::string::npos) break;
@@ -77,8 +66,30 @@ inline std::vector<seed_row> read_seed_rows(const std::string& path, bool intege
     if (r.count < 2) throw usage_error(path + ":" + std::to_string(line) + ": expected i,j,k (3 comma-separated values)");
     rows.push_back(r);
   }
-  if (rows.empty()) throw usage_error(path + ": no seeds in the file");
+  if (rows.empty()) throw usage_error(path + ": no " + (what == "seed file" ? "seeds" : "points") + " in the file");
   return rows;
+}
+
+/// Reads `i,j,k` (or `x,y,z` in world units) per line; `#` starts a comment; blank lines are skipped.
+/// Two values are accepted for single-slice volumes (k = 0). A UTF-8 byte-order mark at the start
+/// (Excel's "CSV UTF-8") is skipped. A folder, FIFO, socket or device is refused before it is opened.
+/// @p what names the file in messages ("seed file", "points file"). The file is read with the
+/// library's io::read_file, so the run's io::read_log records it like every other input.
+inline std::vector<seed_row> read_seed_rows(const std::string& path, bool integers, const std::string& what = "seed file") {
+  require_regular_file(path, ("a " + what).c_str());
+  std::error_code ec;
+  if (std::filesystem::file_size(path, ec) > (std::uintmax_t(1) << 30) && !ec)
+    throw usage_error(path + ": " + what + " larger than 1 GiB");
+  std::string text;
+  try {
+    const auto bytes = geovoronoi::io::read_file(path);
+    text.assign(bytes.begin(), bytes.end());
+  } catch (const geovoronoi::io::out_of_memory&) {
+    throw;
+  } catch (const geovoronoi::io::io_error& e) {
+    throw usage_error(path + ": cannot read the " + what + ": " + e.problem());
+  }
+  return parse_seed_rows(path, text, integers, what);
 }
 
 }  // namespace gvcli

@@ -59,8 +59,10 @@ overflow_error overflow_error_at(const grid<Dim>& g, const overflow_site<T>& s) 
                                  short_number(double(std::numeric_limits<T>::max())) + ")";
   return overflow_error("geovoronoi: the distance overflows " + std::string(type) + " at voxel " +
                         coords_text(g, s.voxel) + ": " + why +
-                        ", so a voxel that a path reaches would come out unreachable; compute in double precision "
-                        "(a double field), or rescale the field or the spacing");
+                        ", so a voxel that a path reaches would come out unreachable; " +
+                        (std::is_same_v<T, float> ? "compute in double precision (a double field), or rescale the "
+                                                    "field or the spacing"
+                                                  : "rescale the field or the spacing"));
 }
 
 /**

@@ -44,6 +44,56 @@ class io_error : public geovoronoi::error {
   std::string problem_;
 };
 
+/// @brief Memory ran out (or a size beyond the largest possible array was asked for) while reading
+///        or writing @p file: not a fault of the file. The message names the size and its purpose.
+class out_of_memory : public io_error {
+ public:
+  using io_error::io_error;
+};
+
+/**
+ * @brief Records the path of every file that the readers of geovoronoi::io open, or try to open, on
+ *        the calling thread while it lives: a MetaImage header's data file included. Logs nest: each
+ *        live log of the thread records every read.
+ *
+ * A program that replaces a folder after reading its inputs asks the log which files it read, rather
+ * than listing them itself (the geovoronoi tool refuses an --out folder that holds one of them).
+ * @code
+ * geovoronoi::io::read_log log;
+ * auto v = geovoronoi::io::read_metaimage<float>("field.mhd");
+ * // log.paths(): {"field.mhd", "field.raw"}
+ * @endcode
+ */
+class read_log {
+ public:
+  read_log() { live().push_back(this); }
+  ~read_log() {
+    auto& l = live();
+    for (std::size_t i = l.size(); i-- > 0;)
+      if (l[i] == this) {
+        l.erase(l.begin() + std::ptrdiff_t(i));
+        break;
+      }
+  }
+  read_log(const read_log&) = delete;
+  read_log& operator=(const read_log&) = delete;
+
+  /// The paths read (or tried) since this log was made, in order, as the reader was given them.
+  const std::vector<std::string>& paths() const noexcept { return paths_; }
+
+  /// Adds @p path to every live log of the calling thread (the readers call it before opening).
+  static void record(const std::string& path) {
+    for (read_log* l : live()) l->paths_.push_back(path);
+  }
+
+ private:
+  static std::vector<read_log*>& live() {
+    thread_local std::vector<read_log*> logs;
+    return logs;
+  }
+  std::vector<std::string> paths_;
+};
+
 /// Scalar element types the formats can carry (MetaImage MET_*, NumPy descr, VTK type names).
 enum class element_type { int8, uint8, int16, uint16, int32, uint32, int64, uint64, float32, float64 };
 
@@ -318,18 +368,19 @@ inline std::string byte_count(std::uint64_t n) {
   return std::string(buf) + " (" + std::to_string(n) + " bytes)";
 }
 
-/// v.resize(n), with std::bad_alloc (or a size beyond max_size()) turned into an io_error that names
-/// @p file, the byte count and what the memory was for.
+/// v.resize(n), with std::bad_alloc (or a size beyond max_size()) turned into an io::out_of_memory
+/// that names @p file, the byte count and what the memory was for.
 template <class V>
 void resize_or_throw(V& v, std::size_t n, const std::string& file, const char* what) {
   try {
     v.resize(n);
   } catch (const std::bad_alloc&) {
-    throw io_error(file, std::string("out of memory allocating ") +
-                             byte_count(std::uint64_t(n) * sizeof(typename V::value_type)) + " for " + what);
+    throw out_of_memory(file, std::string("out of memory allocating ") +
+                                  byte_count(std::uint64_t(n) * sizeof(typename V::value_type)) + " for " + what);
   } catch (const std::length_error&) {
-    throw io_error(file, std::string("cannot allocate ") + byte_count(std::uint64_t(n) * sizeof(typename V::value_type)) +
-                             " for " + what + " (beyond the largest possible array)");
+    throw out_of_memory(file, std::string("cannot allocate ") +
+                                  byte_count(std::uint64_t(n) * sizeof(typename V::value_type)) + " for " + what +
+                                  " (beyond the largest possible array)");
   }
 }
 
@@ -344,27 +395,6 @@ std::vector<T> reorder_channels(const std::vector<T>& in, std::size_t voxels, st
       else out[v * channels + c] = in[c * voxels + v];
     }
   return out;
-}
-
-/// A whole binary file in memory (files are read once; sizes are checked against it).
-inline std::vector<unsigned char> read_file(const std::string& path) {
-  // a directory opens on some systems and reports a meaningless size: only regular files are read
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    if (std::filesystem::exists(path, ec)) throw io_error(path, "is not a regular file (a directory or a device?)");
-    throw io_error(path, "cannot open the file for reading (it does not exist)");
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw io_error(path, "cannot open the file for reading");
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  if (size < 0) throw io_error(path, "cannot determine the file size");
-  in.seekg(0, std::ios::beg);
-  std::vector<unsigned char> bytes;
-  resize_or_throw(bytes, static_cast<std::size_t>(size), path, "the file's contents");
-  if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size))
-    throw io_error(path, "read error");
-  return bytes;
 }
 
 /// Writes bytes to a file, throwing io_error on failure.
@@ -399,14 +429,35 @@ inline std::string base_name(const std::string& path) {
 }
 
 /// Shortest decimal text that reads back to the same double.
-inline std::string format_double(double x) {
-  char buf[40];
-  for (int prec = 6; prec <= 17; ++prec) {
-    std::snprintf(buf, sizeof buf, "%.*g", prec, x);
-    if (std::strtod(buf, nullptr) == x) break;
-  }
-  return buf;
-}
+inline std::string format_double(double x) { return geovoronoi::detail::shortest_text(x); }
 
 }  // namespace detail
+
+/// @brief A whole file in memory, as every reader of geovoronoi::io reads its files: recorded in the
+///        live read_logs first.
+/// @throws io_error when the path is missing, not a regular file (a folder, FIFO or device) or
+///         cannot be read; io::out_of_memory when its contents do not fit in memory.
+inline std::vector<unsigned char> read_file(const std::string& path) {
+  read_log::record(path);
+  // a directory opens on some systems and reports a meaningless size: only regular files are read
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    if (std::filesystem::is_directory(path, ec)) throw io_error(path, "is a folder, not a regular file");
+    if (std::filesystem::exists(path, ec))
+      throw io_error(path, "is not a regular file (a FIFO, socket or device), so it cannot be read");
+    throw io_error(path, "cannot open the file for reading (it does not exist)");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw io_error(path, "cannot open the file for reading");
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size < 0) throw io_error(path, "cannot determine the file size");
+  in.seekg(0, std::ios::beg);
+  std::vector<unsigned char> bytes;
+  detail::resize_or_throw(bytes, static_cast<std::size_t>(size), path, "the file's contents");
+  if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size))
+    throw io_error(path, "read error");
+  return bytes;
+}
+
 }  // namespace geovoronoi::io

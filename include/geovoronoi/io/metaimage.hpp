@@ -132,7 +132,7 @@ inline double parse_real(const std::string& file, const std::string& key, const 
   char* end = nullptr;
   const double x = std::strtod(w.c_str(), &end);
   if (end == w.c_str() || *end != '\0' || errno == ERANGE || !std::isfinite(x))
-    throw io_error(file, key + " value '" + w + "' is not a finite number");
+    throw io_error(file, key + " value '" + geovoronoi::printable(w) + "' is not a finite number");
   return x;
 }
 
@@ -141,7 +141,7 @@ inline std::int64_t parse_int(const std::string& file, const std::string& key, c
   char* end = nullptr;
   const long long x = std::strtoll(w.c_str(), &end, 10);
   if (end == w.c_str() || *end != '\0' || errno == ERANGE)
-    throw io_error(file, key + " value '" + w + "' is not an integer");
+    throw io_error(file, key + " value '" + geovoronoi::printable(w) + "' is not an integer");
   return static_cast<std::int64_t>(x);
 }
 
@@ -149,7 +149,7 @@ inline bool parse_bool(const std::string& file, const std::string& key, const st
   const std::string s = lower(w);
   if (s == "true" || s == "1" || s == "yes") return true;
   if (s == "false" || s == "0" || s == "no") return false;
-  throw io_error(file, key + " value '" + w + "' is not True or False");
+  throw io_error(file, key + " value '" + geovoronoi::printable(w) + "' is not True or False");
 }
 
 inline std::vector<double> parse_reals(const std::string& file, const std::string& key, const std::string& v,
@@ -174,10 +174,20 @@ inline metaimage_header parse_metaimage_header(const std::string& file, const st
   std::vector<std::string> dim_words;
   std::string spacing_value, element_size_value, origin_value, orientation_value;
   constexpr std::size_t max_header = std::size_t(1) << 20;
+  // Lines end as the first one does: LF or CR LF (split at LF; trim() drops the CR), or CR alone (classic
+  // Mac OS). The data of a LOCAL file start right after the ElementDataFile line's end, so a LF after a
+  // CR-only line's CR is data.
+  char eol = 0;
   while (pos < bytes.size() && !have_data_file) {
     if (pos > max_header) throw io_error(file, "no ElementDataFile line in the first MiB: not a MetaImage header");
     std::size_t end = pos;
-    while (end < bytes.size() && bytes[end] != '\n') ++end;
+    if (eol == 0) {
+      while (end < bytes.size() && bytes[end] != '\n' && bytes[end] != '\r') ++end;
+      if (end < bytes.size()) eol = bytes[end] == '\r' && (end + 1 >= bytes.size() || bytes[end + 1] != '\n') ? '\r' : '\n';
+      if (eol == '\n') end = pos;
+    }
+    const char stop = eol == '\r' ? '\r' : '\n';
+    while (end < bytes.size() && bytes[end] != stop) ++end;
     std::string line(reinterpret_cast<const char*>(bytes.data()) + pos, end - pos);
     pos = end < bytes.size() ? end + 1 : end;
     ++line_no;
@@ -189,23 +199,23 @@ inline metaimage_header parse_metaimage_header(const std::string& file, const st
     const auto eq = line.find('=');
     if (eq == std::string::npos)
       throw io_error(file, "header line " + std::to_string(line_no) + " is not 'Key = Value': '" +
-                               line.substr(0, 60) + "'");
+                               geovoronoi::printable(line) + "'");
     const std::string key = trim(line.substr(0, eq));
     const std::string value = trim(line.substr(eq + 1));
     const std::string k = lower(key);
     if (k == "ndims") {
       const auto n = parse_int(file, key, value);
-      if (n < 1 || n > 4) throw io_error(file, "NDims = " + value + " is not supported (1 to 4)");
+      if (n < 1 || n > 4) throw io_error(file, "NDims = " + geovoronoi::printable(value) + " is not supported (1 to 4)");
       h.ndims = int(n);
     } else if (k == "dimsize") {
       dim_words = words(value);
       have_dims = true;
     } else if (k == "elementtype") {
-      if (!parse_met_type(value, h.type)) throw io_error(file, "unknown ElementType '" + value + "'");
+      if (!parse_met_type(value, h.type)) throw io_error(file, "unknown ElementType '" + geovoronoi::printable(value) + "'");
       have_type = true;
     } else if (k == "elementnumberofchannels") {
       const auto c = parse_int(file, key, value);
-      if (c < 1 || c > 4096) throw io_error(file, "ElementNumberOfChannels = " + value + " is out of range (1 to 4096)");
+      if (c < 1 || c > 4096) throw io_error(file, "ElementNumberOfChannels = " + geovoronoi::printable(value) + " is out of range (1 to 4096)");
       h.channels = int(c);
     } else if (k == "elementspacing" || k == "spacing" || k == "scale3d") {
       spacing_value = value;
@@ -223,12 +233,12 @@ inline metaimage_header parse_metaimage_header(const std::string& file, const st
       h.compressed = parse_bool(file, key, value);
     } else if (k == "compresseddatasize") {
       h.compressed_size = parse_int(file, key, value);
-      if (h.compressed_size < 0) throw io_error(file, "CompressedDataSize = " + value + " is negative");
+      if (h.compressed_size < 0) throw io_error(file, "CompressedDataSize = " + geovoronoi::printable(value) + " is negative");
     } else if (k == "headersize") {
       h.header_size = parse_int(file, key, value);
-      if (h.header_size < -1) throw io_error(file, "HeaderSize = " + value + " is below -1");
+      if (h.header_size < -1) throw io_error(file, "HeaderSize = " + geovoronoi::printable(value) + " is below -1");
     } else if (k == "objecttype") {
-      if (lower(value) != "image") throw io_error(file, "ObjectType = " + value + " is not an Image");
+      if (lower(value) != "image") throw io_error(file, "ObjectType = " + geovoronoi::printable(value) + " is not an Image");
     } else if (k == "elementdatafile") {
       if (value.empty()) throw io_error(file, "ElementDataFile is empty");
       h.data_file = value;
@@ -247,7 +257,7 @@ inline metaimage_header parse_metaimage_header(const std::string& file, const st
   std::uint64_t total = 1;
   for (int a = 0; a < h.ndims; ++a) {
     const auto n = parse_int(file, "DimSize", dim_words[std::size_t(a)]);
-    if (n < 1) throw io_error(file, "DimSize value " + dim_words[std::size_t(a)] + " is not positive");
+    if (n < 1) throw io_error(file, "DimSize value " + geovoronoi::printable(dim_words[std::size_t(a)]) + " is not positive");
     if (!checked_mul(total, std::uint64_t(n), total, max_voxels))
       throw io_error(file, "DimSize implies more than 2^40 voxels");
     h.dim_size[std::size_t(a)] = n;
@@ -358,7 +368,7 @@ inline std::vector<unsigned char> deflate_all(const std::string& file, const uns
 
 /// Reads only the header of a .mhd or .mha file.
 inline metaimage_header read_metaimage_header(const std::string& path) {
-  return detail::parse_metaimage_header(path, detail::read_file(path));
+  return detail::parse_metaimage_header(path, read_file(path));
 }
 
 /**
@@ -387,9 +397,9 @@ volume<T> parse_metaimage(const std::string& path, const std::vector<unsigned ch
   } else {
     const std::string df = detail::lower(h.data_file);
     if (df == "list" || df.rfind("list ", 0) == 0 || h.data_file.find('%') != std::string::npos)
-      throw io_error(path, "ElementDataFile = " + h.data_file + " (a list of slice files) is not supported");
+      throw io_error(path, "ElementDataFile = " + geovoronoi::printable(h.data_file) + " (a list of slice files) is not supported");
     data_path = (h.data_file[0] == '/') ? h.data_file : detail::directory_of(path) + h.data_file;
-    other = detail::read_file(data_path);
+    other = read_file(data_path);
     data = &other;
     start = 0;
     if (h.header_size > 0) {
@@ -465,8 +475,8 @@ volume<T> parse_metaimage(const std::string& path, const std::vector<unsigned ch
     try {
       v.data = detail::reorder_channels(v.data, std::size_t(voxels), std::size_t(h.channels), true);
     } catch (const std::bad_alloc&) {
-      throw io_error(path, "out of memory allocating " + detail::byte_count(values * sizeof(T)) +
-                               " to reorder the channels");
+      throw out_of_memory(path, "out of memory allocating " + detail::byte_count(values * sizeof(T)) +
+                                    " to reorder the channels");
     }
   }
   return v;
@@ -475,7 +485,7 @@ volume<T> parse_metaimage(const std::string& path, const std::vector<unsigned ch
 /// Reads a MetaImage file (see parse_metaimage()).
 template <class T>
 volume<T> read_metaimage(const std::string& path, channel_layout layout = channel_layout::interleaved) {
-  return parse_metaimage<T>(path, detail::read_file(path), layout);
+  return parse_metaimage<T>(path, read_file(path), layout);
 }
 
 /// Reads one channel of a MetaImage file as an image (Dim 2 needs a single slice).

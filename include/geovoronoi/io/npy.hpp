@@ -105,11 +105,11 @@ npy_array<T> parse_npy(const std::string& path, const std::vector<unsigned char>
   std::string descr = detail::npy_field(dict, "descr");
   if (descr.size() < 2) throw io_error(path, "the .npy header has no 'descr'");
   descr = descr.substr(1, descr.size() - 2);
-  if (descr.size() < 3) throw io_error(path, "unsupported dtype '" + descr + "'");
+  if (descr.size() < 3) throw io_error(path, "unsupported dtype '" + geovoronoi::printable(descr) + "'");
   const char order = descr[0], kind = descr[1];
   const std::string size_text = descr.substr(2);
   if (size_text.size() != 1 || size_text[0] < '1' || size_text[0] > '8')
-    throw io_error(path, "unsupported dtype '" + descr + "'");
+    throw io_error(path, "unsupported dtype '" + geovoronoi::printable(descr) + "'");
   const int size = size_text[0] - '0';
   element_type type;
   if ((kind == 'i' || kind == 'u' || kind == 'b') && (size == 1 || size == 2 || size == 4 || size == 8)) {
@@ -118,20 +118,25 @@ npy_array<T> parse_npy(const std::string& path, const std::vector<unsigned char>
          : size == 2 ? (is_signed ? element_type::int16 : element_type::uint16)
          : size == 4 ? (is_signed ? element_type::int32 : element_type::uint32)
                      : (is_signed ? element_type::int64 : element_type::uint64);
-    if (kind == 'b' && size != 1) throw io_error(path, "unsupported dtype '" + descr + "'");
+    if (kind == 'b' && size != 1) throw io_error(path, "unsupported dtype '" + geovoronoi::printable(descr) + "'");
   } else if (kind == 'f' && (size == 4 || size == 8)) {
     type = size == 4 ? element_type::float32 : element_type::float64;
   } else {
-    throw io_error(path, "unsupported dtype '" + descr + "' (integers, bool, float32 and float64 only)");
+    throw io_error(path, "unsupported dtype '" + geovoronoi::printable(descr) + "' (integers, bool, float32 and float64 only)");
   }
   if (order != '<' && order != '>' && order != '|' && order != '=')
-    throw io_error(path, "unsupported byte order in dtype '" + descr + "'");
+    throw io_error(path, "unsupported byte order in dtype '" + geovoronoi::printable(descr) + "'");
   const bool swap = size > 1 && ((order == '>') == detail::host_is_little_endian()) && order != '|' && order != '=';
 
-  const std::string fo = detail::npy_field(dict, "fortran_order");
+  // exactly True or False, as NumPy's own reader requires (a Python literal that is a bool)
+  std::string fo = detail::npy_field(dict, "fortran_order");
+  while (!fo.empty() && (fo.back() == ' ' || fo.back() == '\t')) fo.pop_back();
   npy_array<T> a;
-  if (fo.find("True") != std::string::npos) a.fortran_order = true;
-  else if (fo.find("False") == std::string::npos) throw io_error(path, "the .npy header has no valid 'fortran_order'");
+  if (fo == "True") a.fortran_order = true;
+  else if (fo != "False")
+    throw io_error(path, "the .npy header has no valid 'fortran_order' (" +
+                             (fo.empty() ? std::string("none") : "'" + geovoronoi::printable(fo) + "'") +
+                             "; it must be True or False)");
 
   const std::string shape = detail::npy_field(dict, "shape");
   if (shape.size() < 2 || shape.front() != '(' || shape.back() != ')') throw io_error(path, "the .npy header has no valid 'shape'");
@@ -147,7 +152,7 @@ npy_array<T> parse_npy(const std::string& path, const std::vector<unsigned char>
       const std::string w = inner.substr(p, e - p);
       char* end = nullptr;
       const long long n = std::strtoll(w.c_str(), &end, 10);
-      if (end == w.c_str() || *end != '\0' || n < 0) throw io_error(path, "bad dimension '" + w + "' in the .npy shape");
+      if (end == w.c_str() || *end != '\0' || n < 0) throw io_error(path, "bad dimension '" + geovoronoi::printable(w) + "' in the .npy shape");
       if (!detail::checked_mul(count, std::uint64_t(n), count, detail::max_voxels))
         throw io_error(path, "the .npy shape implies more than 2^40 elements");
       a.shape.push_back(index_t(n));
@@ -176,7 +181,7 @@ npy_array<T> parse_npy(const std::string& path, const std::vector<unsigned char>
 /// Reads a .npy file (see parse_npy()).
 template <class T>
 npy_array<T> read_npy(const std::string& path) {
-  return parse_npy<T>(path, detail::read_file(path));
+  return parse_npy<T>(path, read_file(path));
 }
 
 /// Writes `count` values as a C-ordered .npy array of the given numpy shape, element type `type`.

@@ -42,16 +42,16 @@ inline std::vector<std::string> split_words(const unsigned char* p, std::size_t 
 template <class Fail>
 std::uint32_t obj_corner(const std::string& t, std::size_t count, Fail&& fail) {
   const std::string v = t.substr(0, t.find('/'));
-  if (v.empty()) fail("face corner \"" + t + "\" has no vertex index");
+  if (v.empty()) fail("face corner " + quote_token(t) + " has no vertex index");
   char* end = nullptr;
   errno = 0;
   const long long i = std::strtoll(v.c_str(), &end, 10);
-  if (end != v.c_str() + v.size() || errno == ERANGE) fail("face corner \"" + t + "\" is not an integer index");
-  if (i == 0) fail("face corner \"" + t + "\": index 0 is invalid (OBJ counts vertices from 1)");
+  if (end != v.c_str() + v.size() || errno == ERANGE) fail("face corner " + quote_token(t) + " is not an integer index");
+  if (i == 0) fail("face corner " + quote_token(t) + ": index 0 is invalid (OBJ counts vertices from 1)");
   const long long n = static_cast<long long>(count);
   const long long r = i > 0 ? i - 1 : n + i;
   if (r < 0 || r >= n)
-    fail("face corner \"" + t + "\" refers to vertex " + std::to_string(i) + ", but " + std::to_string(count) +
+    fail("face corner " + quote_token(t) + " refers to vertex " + std::to_string(i) + ", but " + std::to_string(count) +
          " vertices are defined so far");
   return static_cast<std::uint32_t>(r);
 }
@@ -86,7 +86,7 @@ inline triangle_mesh parse_obj(const std::string& path, const std::vector<unsign
       if (w.size() < 4) fail("a vertex needs three coordinates (\"v x y z\")");
       std::array<double, 3> p;
       for (std::size_t a = 0; a < 3; ++a)
-        if (!detail::parse_finite(w[a + 1], p[a])) fail("vertex coordinate \"" + w[a + 1] + "\" is not a finite number");
+        if (!detail::parse_finite(w[a + 1], p[a])) fail("vertex coordinate " + detail::quote_token(w[a + 1]) + " is not a finite number");
       if (m.vertices.size() >= 0xFFFFFFFFu) fail("too many vertices (more than 2^32 - 1)");
       m.vertices.push_back(p);
     } else if (w[0] == "f") {
@@ -107,6 +107,6 @@ inline triangle_mesh parse_obj(const std::string& path, const std::vector<unsign
 }
 
 /// Reads an OBJ file (see parse_obj()).
-inline triangle_mesh read_obj(const std::string& path) { return parse_obj(path, detail::read_file(path)); }
+inline triangle_mesh read_obj(const std::string& path) { return parse_obj(path, read_file(path)); }
 
 }  // namespace geovoronoi::io

@@ -121,7 +121,7 @@ volume<T> parse_pnm(const std::string& path, const std::vector<unsigned char>& b
 /// Reads a PGM or PPM file (see parse_pnm()).
 template <class T>
 volume<T> read_pnm(const std::string& path, const pnm_options& opt = {}) {
-  return parse_pnm<T>(path, detail::read_file(path), opt);
+  return parse_pnm<T>(path, read_file(path), opt);
 }
 
 /// Writes a single-channel 8-bit picture as binary PGM (P5), rows from y = 0; values are clamped to

@@ -4,8 +4,11 @@
 ///
 /// Binary or ASCII is decided by content, not by the first word: a file of at least 84 bytes whose
 /// size is exactly 84 + 50 * (the triangle count at byte 80) is binary, even when its header starts
-/// with "solid" (many exporters write that); otherwise a file that starts with "solid" and holds no
-/// NUL byte is ASCII; anything else is read as binary and its size must match its count.
+/// with "solid" (many exporters write that); otherwise a file that starts with "solid" is ASCII, except
+/// that one holding a NUL byte which the ASCII reading refuses is read as binary when its triangle
+/// count is plausible (84 + 50 x count within a factor of 2 of the size: a truncated or padded binary
+/// file), else the ASCII error names the line and the NUL byte and says it is not binary STL either;
+/// anything else is read as binary and its size must match its count.
 /// Coordinates must be finite. Zero-area triangles are dropped and counted in
 /// triangle_mesh::degenerate. A file without any facet is an error. Normals and attribute bytes are
 /// ignored. ASCII facets with more than three vertices are fanned into triangles.
@@ -61,6 +64,13 @@ inline bool parse_finite(const std::string& t, double& out) {
   return end == t.c_str() + t.size() && std::isfinite(out);
 }
 
+/// A token as a message quotes it: in double quotes, cut and escaped (geovoronoi::printable), and a
+/// NUL byte in it named.
+inline std::string quote_token(const std::string& t) {
+  return "\"" + geovoronoi::printable(t) + "\"" +
+         (t.find('\0') != std::string::npos ? " (it holds a NUL byte: binary data in a text file?)" : "");
+}
+
 /// "line N: " prefix for messages.
 inline std::string at_line(std::size_t line) { return "line " + std::to_string(line) + ": "; }
 
@@ -87,14 +97,16 @@ inline std::uint32_t le32(const std::vector<unsigned char>& bytes, std::size_t a
 #pragma GCC diagnostic pop
 #endif
 
-inline bool stl_is_binary(const std::vector<unsigned char>& bytes) {
-  if (bytes.size() >= 84 && 84 + 50 * std::uint64_t(le32(bytes, 80)) == bytes.size()) return true;
+/// Whether the size is exactly that of a binary STL of the triangle count at byte 80.
+inline bool stl_binary_size(const std::vector<unsigned char>& bytes) {
+  return bytes.size() >= 84 && 84 + 50 * std::uint64_t(le32(bytes, 80)) == bytes.size();
+}
+
+/// Whether the text starts with "solid" (after white space).
+inline bool stl_starts_solid(const std::vector<unsigned char>& bytes) {
   std::size_t i = 0;
   while (i < bytes.size() && bytes[i] != 0 && std::strchr(" \t\r\n\f\v", bytes[i]) != nullptr) ++i;
-  if (bytes.size() - i >= 5 && std::memcmp(bytes.data() + i, "solid", 5) == 0 &&
-      std::memchr(bytes.data(), 0, bytes.size()) == nullptr)
-    return false;
-  return true;
+  return bytes.size() - i >= 5 && std::memcmp(bytes.data() + i, "solid", 5) == 0;
 }
 
 inline triangle_mesh parse_stl_binary(const std::string& path, const std::vector<unsigned char>& bytes) {
@@ -139,7 +151,7 @@ inline triangle_mesh parse_stl_ascii(const std::string& path, const std::vector<
   auto fail = [&](const std::string& what) { throw io_error(path, "ASCII STL " + at_line(in.line()) + what); };
   auto expect = [&](const char* word) {
     const std::string t = in.next();
-    if (t != word) fail("expected \"" + std::string(word) + "\", found " + (t.empty() ? "the end of the file" : "\"" + t + "\""));
+    if (t != word) fail("expected \"" + std::string(word) + "\", found " + (t.empty() ? "the end of the file" : quote_token(t)));
   };
   std::string t = in.next();
   if (t != "solid") fail("expected \"solid\"");
@@ -151,18 +163,18 @@ inline triangle_mesh parse_stl_ascii(const std::string& path, const std::vector<
       in.skip_line();
       t = in.next();
       if (t.empty()) break;
-      if (t != "solid") fail("expected \"solid\" or the end of the file after \"endsolid\", found \"" + t + "\"");
+      if (t != "solid") fail("expected \"solid\" or the end of the file after \"endsolid\", found " + quote_token(t));
       in.skip_line();
       continue;
     }
     if (t.empty()) fail("the file ends without \"endsolid\"");
-    if (t != "facet") fail("expected \"facet\" or \"endsolid\", found \"" + t + "\"");
+    if (t != "facet") fail("expected \"facet\" or \"endsolid\", found " + quote_token(t));
     expect("normal");
     for (int a = 0; a < 3; ++a) {  // the normal is not used, but it must be a number
       const std::string n = in.next();
       char* end = nullptr;
       (void)std::strtod(n.c_str(), &end);
-      if (n.empty() || end != n.c_str() + n.size()) fail("the facet normal has a component that is not a number: \"" + n + "\"");
+      if (n.empty() || end != n.c_str() + n.size()) fail("the facet normal has a component that is not a number: " + quote_token(n));
     }
     expect("outer");
     expect("loop");
@@ -170,11 +182,11 @@ inline triangle_mesh parse_stl_ascii(const std::string& path, const std::vector<
     for (;;) {
       t = in.next();
       if (t == "endloop") break;
-      if (t != "vertex") fail("expected \"vertex\" or \"endloop\", found " + (t.empty() ? std::string("the end of the file") : "\"" + t + "\""));
+      if (t != "vertex") fail("expected \"vertex\" or \"endloop\", found " + (t.empty() ? std::string("the end of the file") : quote_token(t)));
       std::array<double, 3> p;
       for (int a = 0; a < 3; ++a) {
         const std::string c = in.next();
-        if (!parse_finite(c, p[std::size_t(a)])) fail("vertex coordinate \"" + c + "\" is not a finite number");
+        if (!parse_finite(c, p[std::size_t(a)])) fail("vertex coordinate " + quote_token(c) + " is not a finite number");
       }
       if (m.vertices.size() >= 0xFFFFFFFFu) fail("too many vertices (more than 2^32 - 1)");
       m.vertices.push_back(p);
@@ -201,10 +213,25 @@ inline triangle_mesh parse_stl_ascii(const std::string& path, const std::vector<
  */
 inline triangle_mesh parse_stl(const std::string& path, const std::vector<unsigned char>& bytes) {
   if (bytes.empty()) throw io_error(path, "is empty (0 bytes); an STL file needs at least one facet");
-  return detail::stl_is_binary(bytes) ? detail::parse_stl_binary(path, bytes) : detail::parse_stl_ascii(path, bytes);
+  if (detail::stl_binary_size(bytes) || !detail::stl_starts_solid(bytes)) return detail::parse_stl_binary(path, bytes);
+  if (std::memchr(bytes.data(), 0, bytes.size()) == nullptr) return detail::parse_stl_ascii(path, bytes);
+  // "solid" and a NUL byte: a binary file whose header starts with "solid" (truncated or padded, as
+  // its size does not match its count) or a text file with a stray NUL. Where the ASCII reading fails,
+  // the binary reading names the problem when its count is plausible (a size within a factor of 2 of
+  // the file's), else the ASCII reading's failure does
+  try {
+    return detail::parse_stl_ascii(path, bytes);
+  } catch (const io_error& e) {
+    const std::uint32_t count = detail::le32(bytes, 80);
+    const std::uint64_t want = 84 + 50 * std::uint64_t(count);
+    if (bytes.size() >= 84 && count != 0 && want <= 2 * std::uint64_t(bytes.size()) && bytes.size() <= 2 * want)
+      return detail::parse_stl_binary(path, bytes);
+    throw io_error(path, e.problem() + "; and it is not binary STL either (" + std::to_string(bytes.size()) +
+                             " bytes, not 84 + 50 x the triangle count at byte 80)");
+  }
 }
 
 /// Reads an STL file (see parse_stl()).
-inline triangle_mesh read_stl(const std::string& path) { return parse_stl(path, detail::read_file(path)); }
+inline triangle_mesh read_stl(const std::string& path) { return parse_stl(path, read_file(path)); }
 
 }  // namespace geovoronoi::io

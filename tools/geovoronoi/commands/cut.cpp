@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <iterator>
 #include <stdexcept>
 
 namespace gvcli {
@@ -208,7 +209,9 @@ void cut_in(const job& j, const carve_box* carve, const shape_args* shape, outpu
 int run(const std::vector<std::string>& args) {
   auto names = shape_arg_options();
   names.insert("--carve");
-  const arguments a(args, solve_options(names), solve_flags(), solve_repeatable());
+  auto repeatable = solve_repeatable();
+  repeatable.insert("--carve");
+  const arguments a(args, solve_options(names), solve_flags(), repeatable);
   if (!a.has("--cut") && !a.has("--carve")) throw usage_error("cut needs a change: --cut MESH and/or --carve BOX");
   shape_args shape;
   if (a.has("--method"))
@@ -218,21 +221,27 @@ int run(const std::vector<std::string>& args) {
                       " needs --method (the shape functions before and after the change)");
   progress_bar bar("geovoronoi cut");
   bar.update("reading");
+  const geovoronoi::io::read_log reads;  // every file the run reads: none may lie inside --out
   const job j = load_job(a);
+  for (const auto& n : j.notes) bar.note("geovoronoi cut: " + n);
   if (a.has("--method")) check_picture_node(shape, j);
-  carve_box carve;
-  if (a.has("--carve")) {
-    carve = parse_carve(a.get("--carve"), a.has("--world"), j.geometry());
+  carve_box carve;  // the union of every --carve box
+  carve.lo = {j.geometry().extent(0), j.geometry().extent(1), j.geometry().extent(2)};
+  carve.hi = {-1, -1, -1};
+  for (const auto& text : a.all("--carve")) {
+    const carve_box box = parse_carve(text, a.has("--world"), j.geometry());
     const auto& g = j.geometry();
     for (std::size_t i = 0; i < j.seeds.size(); ++i)
-      if (g.contains(j.seeds[i]) && std::binary_search(carve.voxels.begin(), carve.voxels.end(), g.index(j.seeds[i])))
-        throw usage_error("--carve '" + a.get("--carve") + "' removes the seed on line " +
-                          std::to_string(j.seed_lines[i]) + " of " + j.seeds_path +
-                          " (a node cannot be carved; remove it from the seed file)");
+      if (g.contains(j.seeds[i]) && std::binary_search(box.voxels.begin(), box.voxels.end(), g.index(j.seeds[i])))
+        throw usage_error("--carve '" + text + "' removes the seed on line " + std::to_string(j.seed_lines[i]) + " of " +
+                          j.seeds_path + " (a node cannot be carved; remove it from the seed file)");
+    std::vector<index_t> both;
+    std::set_union(carve.voxels.begin(), carve.voxels.end(), box.voxels.begin(), box.voxels.end(),
+                   std::back_inserter(both));
+    carve.voxels = std::move(both);
+    for (int k = 0; k < 3; ++k) carve.lo[k] = std::min(carve.lo[k], box.lo[k]), carve.hi[k] = std::max(carve.hi[k], box.hi[k]);
   }
-  std::vector<std::string> inputs{j.stiffness_path, j.seeds_path};
-  inputs.insert(inputs.end(), j.cut_paths.begin(), j.cut_paths.end());
-  output_dir out(j.out, inputs, "geovoronoi cut");
+  output_dir out(j.out, reads, "geovoronoi cut");
   const carve_box* c = a.has("--carve") ? &carve : nullptr;
   const shape_args* sa = a.has("--method") ? &shape : nullptr;
   if (j.in_double)
@@ -268,7 +277,8 @@ const command cut_command = {
     "  --carve BOX         voxels removed from the domain: x0:x1,y0:y1,z0:z1, voxel indices with both\n"
     "                      ends included (0 <= x0 <= x1 < size along x, ...); with --world, world\n"
     "                      coordinates of a closed box, taking every voxel whose centre lies in it.\n"
-    "                      Carved voxels get the field value -1 (outside); the box may hold no seed\n"
+    "                      Carved voxels get the field value -1 (outside); the box may hold no seed;\n"
+    "                      repeatable (the union of the boxes)\n"
     "  --metric M          min_stiffness, mean_stiffness, mean_cost or uniform (default: min_stiffness)\n"
     "  --connectivity N    6, 18 or 26 neighbours (default: 26)\n"
     "  --backend B         seq, thrust or cuda: runs the two full solves (default: the fastest built one\n"

@@ -97,7 +97,8 @@ int run(const std::vector<std::string>& args) {
   const gv::grid<3> g({128, 96, 32}, {1.0, 1.0, 1.0});
   const auto field = gv::phantom::steak(g);
   const auto seeds = mid_slice_seeds(field, 12);
-  output_dir out(dir, {}, "geovoronoi demo");
+  const geovoronoi::io::read_log reads;  // (the demo reads no file)
+  output_dir out(dir, reads, "geovoronoi demo");
   gio::write_metaimage(out.file("stiffness.mhd"), field);
   write_seeds(out.file("seeds.csv"), seeds, "stiffness.mhd");
   std::printf("demo: steak phantom %lldx%lldx%lld, %zu nodes, backend %s\n", (long long)g.extent(0),

@@ -21,16 +21,7 @@ namespace {
 /// the library's shape_functions_at for world points). A point outside the grid is a usage error
 /// naming its line.
 std::vector<gv::coord<3>> read_points(const std::string& path, bool world, const gv::grid<3>& g) {
-  std::vector<seed_row> rows;
-  try {
-    rows = read_seed_rows(path, !world);
-  } catch (const usage_error& e) {  // the reader speaks of seeds; these are points
-    std::string m = e.what();
-    for (const auto& [from, to] : {std::pair<std::string, std::string>{"the seed file", "the points file"},
-                                   {"no seeds in the file", "no points in the file"}})
-      if (const auto at = m.find(from); at != std::string::npos) m.replace(at, from.size(), to);
-    throw usage_error(m);
-  }
+  const std::vector<seed_row> rows = read_seed_rows(path, !world, "points file");
   std::vector<gv::coord<3>> out;
   out.reserve(rows.size());
   for (const auto& r : rows) {
@@ -39,7 +30,11 @@ std::vector<gv::coord<3>> read_points(const std::string& path, bool world, const
       throw usage_error(where + "has 2 values but the volume has " + std::to_string(g.extent(2)) + " slices");
     gv::coord<3> c;
     if (world) {
-      c = g.nearest_voxel({r.x[0], r.x[1], r.x[2]});
+      try {  // the point as given, not a voxel it would round to
+        c = g.checked_nearest_voxel({r.x[0], r.x[1], r.x[2]});
+      } catch (const std::invalid_argument& e) {
+        throw usage_error(path + ":" + std::to_string(r.line) + ": the point at " + e.what());
+      }
     } else {
       for (int k = 0; k < 3; ++k) {
         if (std::abs(r.x[k]) > 9e15) throw usage_error(where + "coordinate out of range");

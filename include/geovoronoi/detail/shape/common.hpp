@@ -96,6 +96,12 @@ void validate(const P& p, const D& d, const Options& opt) {
     if (s < 0 || s >= n)
       throw std::invalid_argument(who + "node " + std::to_string(i) + " has voxel index " + std::to_string(s) +
                                   ", outside the grid");
+    if (d.label[s] != static_cast<label_t>(i) && d.label[s] >= 0 && d.label[s] < nodes && d.distance[s] == 0)
+      throw std::invalid_argument(who + "node " + std::to_string(i) + " (voxel " + std::to_string(s) +
+                                  ") is at geodesic distance 0 from node " + std::to_string(d.label[s]) +
+                                  " (a path of zero-weight edges joins them, e.g. cost 0 under mean_cost), so it "
+                                  "has no cell of its own; give the voxels between them a positive value or use "
+                                  "another metric");
     if (d.label[s] != static_cast<label_t>(i))
       throw std::invalid_argument(who + "node " + std::to_string(i) + " (voxel " + std::to_string(s) +
                                   ") carries label " + std::to_string(d.label[s]) +

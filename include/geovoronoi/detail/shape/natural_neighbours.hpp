@@ -296,19 +296,34 @@ void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, co
   std::vector<std::size_t> sample(groups, 0);  // cell sizes of each group's sampled queries, summed
   std::atomic<std::size_t> visited_total{0};
   // 1. the sample: the first queries of every group, in tasks of as many queries as a group runs (64
-  // one-query searches, or 4 lane searches), so that no thread waits long for the other's last task
+  // one-query searches, or 4 lane searches), so that no thread waits long for the other's last task.
+  // Until it is done the total is unknown: the fraction reported is that of the queries sampled (the
+  // sample's share of the visits, estimated by the sample itself), by the calling thread after a task
+  // of its own once a batch of queries has been sampled since its last report.
   const std::size_t groups_per_sample_task = std::max<std::size_t>(1, group / std::max<std::size_t>(1, sampled));
-  for (std::size_t g0 = 0; g0 < groups; g0 += opt.batch_size) {
-    const std::size_t g1 = std::min(groups, g0 + opt.batch_size);
-    host_parallel_for(policy, index_t((g1 - g0 + groups_per_sample_task - 1) / groups_per_sample_task), [&](index_t t) {
-      auto wk = pool.acquire();
-      const std::size_t b = g0 + std::size_t(t) * groups_per_sample_task, e = std::min(g1, b + groups_per_sample_task);
+  const std::thread::id caller = std::this_thread::get_id();
+  double last = 0;  // the last fraction reported: reports never go back
+  std::atomic<std::size_t> sampled_done{0};
+  std::size_t sampled_reported = 0;
+  host_parallel_for(policy, index_t((groups + groups_per_sample_task - 1) / groups_per_sample_task), [&](index_t t) {
+    std::size_t ran = 0;
+    {
+      auto wk = pool.acquire();  // back in the pool before the callback runs
+      const std::size_t b = std::size_t(t) * groups_per_sample_task, e = std::min(groups, b + groups_per_sample_task);
       std::size_t sum = 0;
-      for (std::size_t g = b; g < e; ++g)
+      for (std::size_t g = b; g < e; ++g) {
         sum += sample[g] = wk->run(queries, begin(g), split(g), voxel_of, laplace, faces, write);
+        ran += split(g) - begin(g);
+      }
       visited_total += sum;
-    });
-  }
+    }
+    const std::size_t done = sampled_done += ran;
+    if (std::this_thread::get_id() == caller && done - sampled_reported >= opt.batch_size) {
+      sampled_reported = done;
+      last = std::max(last, double(done) / double(total));
+      report(opt.progress, last);
+    }
+  });
   // estimated work of the queries not yet run, group by group: the sample's mean cell size each
   auto estimate = [&](std::size_t g) {
     return double(sample[g]) / double(split(g) - begin(g)) * double(end(g) - split(g));
@@ -316,7 +331,6 @@ void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, co
   double remaining = 0;  // the estimates of all groups (step 2 subtracts those done)
   for (std::size_t g = 0; g < groups; ++g) remaining += estimate(g);
   std::atomic<double> estimated_done{0};  // the estimates of the groups done in step 2 so far
-  double last = 0;                        // the last fraction reported: reports never go back
   auto progress_now = [&] {
     const double done = double(visited_total.load());
     const double left = std::max(0.0, remaining - estimated_done.load());
@@ -330,7 +344,6 @@ void fused_query_loop(const Policy& policy, const Options& opt, bool laplace, co
   // other's last task at a report (a barrier per batch would idle every thread but the last at each one).
   // A cancellation thrown there skips the tasks not yet started (host_parallel_for).
   const std::size_t groups_per_batch = std::max<std::size_t>(1, opt.batch_size / group);
-  const std::thread::id caller = std::this_thread::get_id();
   std::atomic<std::size_t> groups_done{0};
   std::size_t reported = 0;  // groups done at the last report
   host_parallel_for(policy, index_t(groups), [&](index_t t) {

@@ -173,7 +173,13 @@ point_weights<typename P::value_type> shape_functions_at(const Policy& policy, c
   detail::require_policy<Policy>();
   std::vector<coord<P::dim>> c;
   c.reserve(world_points.size());
-  for (const auto& x : world_points) c.push_back(problem.geometry.nearest_voxel(x));
+  for (std::size_t i = 0; i < world_points.size(); ++i) {
+    try {
+      c.push_back(problem.geometry.checked_nearest_voxel(world_points[i]));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("geovoronoi::shape_functions_at: point " + std::to_string(i) + ": " + e.what());
+    }
+  }
   return shape_functions_at(policy, problem, d, c, opt);
 }
 
