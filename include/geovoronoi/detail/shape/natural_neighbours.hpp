@@ -477,7 +477,7 @@ template <class Policy, class P, class D, class Options>
 std::size_t write_single_owner_rows(const Policy& policy, const P& p, const D& d, const Options& opt,
                                     const index_t* voxel_of, int k, std::size_t nodes, label_t* node,
                                     typename P::value_type* weight, std::vector<index_t>& queries,
-                                    std::size_t& restricted_rows) {
+                                    std::size_t& restricted_rows, double& progress_done) {
   using T = typename P::value_type;
   using filter_t = single_owner_filter<P>;
   const double vv = p.geometry.voxel_volume();
@@ -503,7 +503,11 @@ std::size_t write_single_owner_rows(const Policy& policy, const P& p, const D& d
   const std::size_t max_pops = opt.tuning.single_owner_pops;
   D restricted;  // built when first needed
   // Decides the queries queries[i] for i in @p idx: own_only or shares in found[i].
-  auto decide = [&](const std::vector<std::size_t>& idx) {
+  // The restricted searches below take the first half of the progress bar at most, in proportion to
+  // the queries they may decide (the sample, then the rest), so that the bar moves while they run;
+  // the searches after them report on what is left (natural_neighbour_rows).
+  const double share = 0.5;
+  auto decide = [&](const std::vector<std::size_t>& idx, double from, double to) {
     // 1. a short search per query: most that share find a witness within a few dozen voxels
     host_parallel_for(policy, index_t((idx.size() + per_task - 1) / per_task), [&](index_t t) {
       auto sc = pool.acquire();
@@ -532,8 +536,7 @@ std::size_t write_single_owner_rows(const Policy& policy, const P& p, const D& d
     Options ro = opt;
     ro.skip_single_owner_rows = false;
     ro.stats = nullptr;
-    // progress stays where it is (0) during this step; cancellation is still checked
-    ro.progress = [&opt](double) { return opt.progress ? opt.progress(0.0) : true; };
+    ro.progress = [&opt, from, to](double x) { return opt.progress ? opt.progress(from + (to - from) * x) : true; };
     ro.max_nodes_per_voxel = rk;
     natural_neighbour_rows(policy, p, restricted, ro, false, rvox.data(), rvox.size(), rk, nodes, rnode.data(),
                            rweight.data());
@@ -548,13 +551,16 @@ std::size_t write_single_owner_rows(const Policy& policy, const P& p, const D& d
   // (the beam: no query does), the other reached queries are searched as usual without being decided
   std::vector<std::size_t> sample, rest;
   for (std::size_t i = 0; i < queries.size(); ++i) (i % stride == 0 ? sample : rest).push_back(i);
-  decide(sample);
+  const double after_sample = share * double(sample.size()) / double(queries.size());
+  decide(sample, 0.0, after_sample);
+  progress_done = after_sample;
   bool gains = false;
   for (const std::size_t i : sample)
     gains = gains || (found[i] == verdict::own_only && filter.reached(voxel_of[queries[i]]));
-  if (gains)
-    decide(rest);
-  else
+  if (gains) {
+    decide(rest, after_sample, share);
+    progress_done = share;
+  } else
     for (const std::size_t i : rest)
       if (!filter.reached(voxel_of[queries[i]])) found[i] = verdict::own_only;
   std::size_t kept = 0;
@@ -574,7 +580,7 @@ std::size_t write_single_owner_rows(const Policy& policy, const P& p, const D& d
  * several rows; each row is computed on its own, with the same arithmetic as every other row.
  */
 template <class Policy, class P, class D, class Options>
-void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const Options& opt, bool laplace,
+void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const Options& options, bool laplace,
                             const index_t* voxel_of, std::size_t rows, int k, std::size_t nodes, label_t* node,
                             typename P::value_type* weight) {
   using T = typename P::value_type;
@@ -594,8 +600,17 @@ void natural_neighbour_rows(const Policy& policy, const P& p, const D& d, const 
   // Sibson: the rows of queries whose new cell provably stays in their own node's cell, written
   // without their search (single_owner.hpp); they leave `queries`
   std::size_t restricted = 0;
+  double progress_done = 0.0;
   const std::size_t single_owner =
-      laplace ? 0 : write_single_owner_rows(policy, p, d, opt, voxel_of, k, nodes, node, weight, queries, restricted);
+      laplace ? 0
+              : write_single_owner_rows(policy, p, d, options, voxel_of, k, nodes, node, weight, queries, restricted,
+                                        progress_done);
+  // the searches below report on the part of the progress bar the single-owner step left
+  Options opt = options;
+  if (progress_done > 0.0 && options.progress)
+    opt.progress = [&options, progress_done](double x) {
+      return options.progress(progress_done + (1.0 - progress_done) * x);
+    };
   if (opt.stats) {
     opt.stats->single_owner_rows = single_owner;
     opt.stats->single_owner_restricted = restricted;
