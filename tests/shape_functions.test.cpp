@@ -113,59 +113,35 @@ TEST_CASE("shape functions: world points whose voxel is outside the grid are nam
                        std::invalid_argument);
 }
 
+namespace {
+// The progress tests' problem: a 24^3 gradient, 8 nodes, min_stiffness, 26 neighbours; calls
+// test(problem, diagram).
+template <class Test>
+void with_gradient24(Test&& test) {
+  namespace gv = geovoronoi;
+  const gv::grid<3> g({24, 24, 24});
+  const auto f = gv::phantom::gradient(g);
+  const auto p = gv::make_problem(g, f.values(), gv::min_stiffness{}, gv::connectivity<26>{});
+  std::vector<gv::coord<3>> seeds;
+  for (gv::index_t i = 0; i < 8; ++i) seeds.push_back({3 + 6 * (i % 3), 3 + 7 * ((i / 3) % 3), 4 + 5 * (i % 4)});
+  test(p, gv::voronoi(gv::seq, p, seeds));
+}
+}  // namespace
+
 TEST_CASE("shape functions: Sibson progress moves while the single-owner step searches") {
   // The single-owner step (skip_single_owner_rows, on by default) runs restricted searches for the
   // queries its short search leaves undecided; the bar must move through them too, then go on from
   // where they left it, never back.
   namespace gv = geovoronoi;
-  const gv::grid<3> g({24, 24, 24});
-  const auto f = gv::phantom::gradient(g);
-  const auto p = gv::make_problem(g, f.values(), gv::min_stiffness{}, gv::connectivity<26>{});
-  std::vector<gv::coord<3>> seeds;
-  for (gv::index_t i = 0; i < 8; ++i) seeds.push_back({3 + 6 * (i % 3), 3 + 7 * ((i / 3) % 3), 4 + 5 * (i % 4)});
-  const auto d = gv::voronoi(gv::seq, p, seeds);
-  gv::shape_options o;
-  o.method = gv::shape_method::sibson;
-  const auto plain = gv::shape_functions(gv::seq, p, d, o);
-  std::vector<double> seen;
-  gv::shape_stats stats;
-  o.batch_size = 16;  // a report every 16 queries, in the restricted searches too
-  o.tuning.single_owner_pops = 0;  // every query of the step decided by a restricted search
-  o.stats = &stats;
-  o.progress = [&](double x) {
-    seen.push_back(x);
-    return true;
-  };
-  const auto w = gv::shape_functions(gv::seq, p, d, o);
-  CHECK(w.node == plain.node);  // reporting changes no result
-  CHECK(w.weight == plain.weight);
-  INFO("single-owner rows " << stats.single_owner_rows << ", of them after a restricted search "
-                            << stats.single_owner_restricted << ", reports " << seen.size());
-  REQUIRE(stats.single_owner_rows > 0);  // the step ran (with single_owner_pops = 0, only restricted searches)
-  REQUIRE(seen.size() > 10);
-  CHECK(std::is_sorted(seen.begin(), seen.end()));
-  CHECK(seen.back() == 1.0);
-  // the restricted searches report many times; at most the first report of each search run is 0
-  CHECK(std::count(seen.begin(), seen.end(), 0.0) <= 2);
-}
-
-TEST_CASE("shape functions: Sibson and Laplace progress moves while the sample queries run") {
-  // The query loop runs the first search of every task first (the sample of its estimate): a quarter of
-  // all queries with the lane search. Progress must move during it, not jump at its end.
-  namespace gv = geovoronoi;
-  const gv::grid<3> g({24, 24, 24});
-  const auto f = gv::phantom::gradient(g);
-  const auto p = gv::make_problem(g, f.values(), gv::min_stiffness{}, gv::connectivity<26>{});
-  std::vector<gv::coord<3>> seeds;
-  for (gv::index_t i = 0; i < 8; ++i) seeds.push_back({3 + 6 * (i % 3), 3 + 7 * ((i / 3) % 3), 4 + 5 * (i % 4)});
-  const auto d = gv::voronoi(gv::seq, p, seeds);
-  for (const auto m : {gv::shape_method::laplace, gv::shape_method::sibson}) {
+  with_gradient24([](const auto& p, const auto& d) {
     gv::shape_options o;
-    o.method = m;
-    o.skip_single_owner_rows = false;
+    o.method = gv::shape_method::sibson;
     const auto plain = gv::shape_functions(gv::seq, p, d, o);
     std::vector<double> seen;
-    o.batch_size = 256;  // a report every 256 queries: about 50 here
+    gv::shape_stats stats;
+    o.batch_size = 16;  // a report every 16 queries, in the restricted searches too
+    o.tuning.single_owner_pops = 0;  // every query of the step decided by a restricted search
+    o.stats = &stats;
     o.progress = [&](double x) {
       seen.push_back(x);
       return true;
@@ -173,13 +149,44 @@ TEST_CASE("shape functions: Sibson and Laplace progress moves while the sample q
     const auto w = gv::shape_functions(gv::seq, p, d, o);
     CHECK(w.node == plain.node);  // reporting changes no result
     CHECK(w.weight == plain.weight);
+    INFO("single-owner rows " << stats.single_owner_rows << ", of them after a restricted search "
+                              << stats.single_owner_restricted << ", reports " << seen.size());
+    REQUIRE(stats.single_owner_rows > 0);  // the step ran (with single_owner_pops = 0, only restricted searches)
     REQUIRE(seen.size() > 10);
     CHECK(std::is_sorted(seen.begin(), seen.end()));
     CHECK(seen.back() == 1.0);
-    const auto first_moved = std::find_if(seen.begin(), seen.end(), [](double x) { return x > 0.0; });
-    REQUIRE(first_moved != seen.end());
-    INFO("first fraction above 0: " << *first_moved);
-    CHECK(*first_moved < 0.05);
-    CHECK(std::count_if(seen.begin(), seen.end(), [](double x) { return x > 0.0 && x < 0.2; }) >= 3);
-  }
+    // the restricted searches report many times; at most the first report of each search run is 0
+    CHECK(std::count(seen.begin(), seen.end(), 0.0) <= 2);
+  });
+}
+
+TEST_CASE("shape functions: Sibson and Laplace progress moves while the sample queries run") {
+  // The query loop runs the first search of every task first (the sample of its estimate): a quarter of
+  // all queries with the lane search. Progress must move during it, not jump at its end.
+  namespace gv = geovoronoi;
+  with_gradient24([](const auto& p, const auto& d) {
+    for (const auto m : {gv::shape_method::laplace, gv::shape_method::sibson}) {
+      gv::shape_options o;
+      o.method = m;
+      o.skip_single_owner_rows = false;
+      const auto plain = gv::shape_functions(gv::seq, p, d, o);
+      std::vector<double> seen;
+      o.batch_size = 256;  // a report every 256 queries: about 50 here
+      o.progress = [&](double x) {
+        seen.push_back(x);
+        return true;
+      };
+      const auto w = gv::shape_functions(gv::seq, p, d, o);
+      CHECK(w.node == plain.node);  // reporting changes no result
+      CHECK(w.weight == plain.weight);
+      REQUIRE(seen.size() > 10);
+      CHECK(std::is_sorted(seen.begin(), seen.end()));
+      CHECK(seen.back() == 1.0);
+      const auto first_moved = std::find_if(seen.begin(), seen.end(), [](double x) { return x > 0.0; });
+      REQUIRE(first_moved != seen.end());
+      INFO("first fraction above 0: " << *first_moved);
+      CHECK(*first_moved < 0.05);
+      CHECK(std::count_if(seen.begin(), seen.end(), [](double x) { return x > 0.0 && x < 0.2; }) >= 3);
+    }
+  });
 }
