@@ -406,8 +406,13 @@ def _points(points: Any, ndim: int, world: bool, spacing, origin, shape, what: s
         bad = ~np.all((idx >= 0) & (idx < np.asarray(shape)), axis=1)
         if np.any(bad):
             i = int(np.flatnonzero(bad)[0])
-            raise ValueError(f"geovoronoi: {what[:-1]} {i} at world point {tuple(x[i])} lies outside the grid "
-                             f"(nearest voxel {tuple(int(v) for v in idx[i])}, shape {tuple(shape)})")
+            # the point as given, and the first array axis it leaves the grid along (never the voxel
+            # it rounds to: far outside, that index means nothing)
+            a = next(a for a in range(ndim) if not 0 <= idx[i, a] < shape[a])
+            given = ", ".join(repr(float(v)) for v in x[i])
+            raise ValueError(f"geovoronoi: {what[:-1]} {i} at world point ({given}) lies outside the grid: its "
+                             f"nearest voxel centre has index {idx[i, a]:g} along array axis {a}, where the "
+                             f"indices run 0 to {int(shape[a]) - 1}")
         return np.ascontiguousarray(idx, dtype=np.int64)
     if p.dtype.kind in "fb":
         raise TypeError(f"geovoronoi: {what} must be integer array indices, got dtype {p.dtype} "

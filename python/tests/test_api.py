@@ -268,6 +268,8 @@ BAD_VORONOI = [
     (dict(field=np.where(np.arange(20).reshape(4, 5) == 7, 0, 1.0), seeds=[[1, 2]]), ValueError, "masked"),
     (dict(field=F2, seeds=[[0, 0]], world=True, spacing=2.0, origin=(10.0, 0.0)), ValueError, "outside"),
     (dict(field=F2, seeds=[[np.nan, 0.0]], world=True), ValueError, "non-finite"),
+    (dict(field=F2, seeds=[[1e30, 0.0]], world=True), ValueError,
+     "seed 0 at world point (1e+30, 0.0) lies outside the grid: its nearest voxel centre has index 1e+30 along array axis 0"),
     (dict(field=F2, seeds=[[0, 0]], spacing=(1.0,)), ValueError, "2 entries"),
     (dict(field=F2, seeds=[[0, 0]], spacing=(1.0, 0.0)), ValueError, "spacing"),
     (dict(field=F2, seeds=[[0, 0]], spacing=(1.0, np.inf)), ValueError, "spacing"),

@@ -121,6 +121,25 @@ endforeach()
 one_line(huge_float "beyond float's range")
 one_line(tiny_float "too small for float")
 
+# the smallest double, 5e-324 (its bytes hold NULs, which a CMake string cannot: written by printf),
+# under min_stiffness in double: its edge weight 1/5e-324 overflows double itself, so the advice is to
+# rescale, never the --precision double already given
+mhd(subnormal MET_DOUBLE 6 5 1 "")
+execute_process(COMMAND sh -c "i=0; while [ $i -lt 30 ]; do if [ $i = 13 ]; then printf '\\001\\000\\000\\000\\000\\000\\000\\000'; else printf '\\000\\000\\000\\000\\000\\000\\360\\077'; fi; i=$((i+1)); done"
+                OUTPUT_FILE ${WORK}/subnormal.raw RESULT_VARIABLE rc)
+file(SIZE ${WORK}/subnormal.raw subnormal_size)
+if(NOT rc EQUAL 0 OR NOT subnormal_size EQUAL 240)
+  message(SEND_ERROR "FAIL: could not write subnormal.raw (exit ${rc}, ${subnormal_size} bytes)")
+endif()
+run(subnormal_double 2 voronoi --stiffness subnormal.mhd --seeds seeds2.csv --backend seq --precision double --out out-sub)
+one_line(subnormal_double "overflows double")
+one_line(subnormal_double "rescale")
+string(FIND "${ERR_subnormal_double}" "--precision" advises_flag)
+string(FIND "${ERR_subnormal_double}" "compute in double" advises_double)
+if(NOT advises_flag EQUAL -1 OR NOT advises_double EQUAL -1)
+  message(SEND_ERROR "FAIL: subnormal_double: an overflow in double advises double precision: ${ERR_subnormal_double}")
+endif()
+
 # shape functions: the same precision through the whole pipeline
 run(shape_float 2 shape-functions ${C} --backend seq --method laplace --out out-shape-float)
 one_line(shape_float "overflows float")
