@@ -8,6 +8,8 @@
 // a closed mesh skips the self-intersection check and runs the same exact sweep, so the difference
 // of the two is the cost of the checks. winding_open removes one triangle: every voxel's winding
 // number then comes from the hierarchical solid-angle sum (the floating-point path).
+#include "common.hpp"
+
 #include <benchmark/benchmark.h>
 #include <geovoronoi/phantom.hpp>
 #include <geovoronoi/voxelize.hpp>
@@ -19,8 +21,6 @@
 
 namespace gv = geovoronoi;
 namespace {
-
-bool smoke() { return std::getenv("GEOVORONOI_BENCH_SMOKE") != nullptr; }
 
 const gv::triangle_mesh& mesh(int subdivisions, int n) {
   static std::map<std::pair<int, int>, gv::triangle_mesh> cache;
@@ -89,7 +89,7 @@ void run_raycast(benchmark::State& state) {
 }
 
 void args_voxelize(benchmark::internal::Benchmark* b) {
-  if (smoke()) {
+  if (geovoronoi::bench::smoke_run()) {
     b->Args({3, 32, 0})->Iterations(1);
     return;
   }
@@ -97,7 +97,7 @@ void args_voxelize(benchmark::internal::Benchmark* b) {
 }
 
 void args_raycast(benchmark::internal::Benchmark* b) {
-  if (smoke()) {
+  if (geovoronoi::bench::smoke_run()) {
     b->Args({3, 4, 32})->Iterations(1);
     return;
   }
@@ -107,7 +107,7 @@ void args_raycast(benchmark::internal::Benchmark* b) {
 }  // namespace
 
 void args_open(benchmark::internal::Benchmark* b) {
-  if (smoke()) {
+  if (geovoronoi::bench::smoke_run()) {
     b->Args({3, 16, 0})->Iterations(1);
     return;
   }
