@@ -15,6 +15,16 @@
 
 namespace gvcli {
 
+/// The help lines of --mesh and its grid options, the same in `voronoi`, `shape-functions` and `cut`.
+#define GEOVORONOI_CLI_MESH_HELP                                                                          \
+  "  --mesh MESH[:VALUE[:LABEL]]\n"                                                                       \
+  "                      instead of --stiffness: the field voxelized from closed meshes (.stl/.obj,\n"   \
+  "                      world coordinates; VALUE inside, default 1; 0 outside); repeatable, a later\n"  \
+  "                      mesh wins where they overlap (`geovoronoi help voxelize`)\n"                    \
+  "  --voxel-size S      with --mesh: the voxel size, S or SX,SY,SZ; or --voxels NX,NY,NZ (one of them)\n" \
+  "  --pad N, --rotate, --winding\n"                                                                      \
+  "                      with --mesh: as for `geovoronoi voxelize` (default: 0, off, off)\n"
+
 /// One `MESH[:VALUE[:LABEL]]` of the command line.
 struct mesh_spec {
   std::string path;      ///< the .stl or .obj file
