@@ -18,3 +18,4 @@
 #include <geovoronoi/shape_update.hpp>
 #include <geovoronoi/update.hpp>
 #include <geovoronoi/voronoi.hpp>
+#include <geovoronoi/voxelize.hpp>

@@ -3,15 +3,20 @@
 /// @brief Procedural stiffness volumes used by the benchmarks, the tests and the demo: constant,
 ///        gradient (1 -> 10 along x), a two-material beam, a T-bone-steak phantom (meat, fat, bone,
 ///        background) and a noisy MRI-like pelvis (mri_like: tissues over three decades of values,
-///        masked background).
+///        masked background); and closed triangle meshes (box, ellipsoid, torus, the "limb" parts)
+///        for voxelize().
 
 #include <geovoronoi/grid.hpp>
 #include <geovoronoi/image.hpp>
+#include <geovoronoi/mesh.hpp>
+#include <geovoronoi/voxelize.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace geovoronoi::phantom {
@@ -238,6 +243,117 @@ std::vector<coord<Dim>> random_seeds(const image<float, Dim>& field, int count, 
     if (field[v] > 0 && !used[v]) used[v] = 1, out.push_back(g.coords(v));
   }
   return out;
+}
+
+/// The box [lo, hi] as 12 triangles facing outward (counter-clockwise seen from outside).
+/// @throws std::invalid_argument unless lo < hi along every axis.
+inline triangle_mesh box_mesh(const point<3>& lo, const point<3>& hi) {
+  for (int a = 0; a < 3; ++a)
+    if (!(lo[a] < hi[a])) throw std::invalid_argument("geovoronoi::phantom::box_mesh: lo must be below hi along every axis");
+  triangle_mesh m;
+  for (int c = 0; c < 8; ++c) m.vertices.push_back({c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2]});
+  // corner c has bit a set when it is at hi along axis a
+  m.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6},   // z = lo, z = hi
+                 {0, 1, 5}, {0, 5, 4}, {2, 6, 7}, {2, 7, 3},   // y = lo, y = hi
+                 {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};  // x = lo, x = hi
+  return m;
+}
+
+/// An icosphere subdivided @p subdivisions times (20 * 4^s triangles), its vertices on the unit
+/// sphere, scaled by @p radii and moved to @p centre; closed, facing outward.
+/// @throws std::invalid_argument for radii that are not > 0 or subdivisions outside [0, 9].
+inline triangle_mesh ellipsoid_mesh(const point<3>& centre, const point<3>& radii, int subdivisions) {
+  if (!(radii[0] > 0 && radii[1] > 0 && radii[2] > 0) || subdivisions < 0 || subdivisions > 9)
+    throw std::invalid_argument("geovoronoi::phantom::ellipsoid_mesh: radii must be > 0 and subdivisions in [0, 9]");
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<std::array<double, 3>> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                                          {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<std::array<std::uint32_t, 3>> f = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11},
+                                                 {1, 5, 9}, {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                                 {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8}, {3, 8, 9},
+                                                 {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  auto unit = [](std::array<double, 3> p) {
+    const double r = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    return std::array<double, 3>{p[0] / r, p[1] / r, p[2] / r};
+  };
+  for (auto& p : v) p = unit(p);
+  for (auto& tri : f) {  // face outward: the normal along the centroid
+    const auto &a = v[tri[0]], &b = v[tri[1]], &c = v[tri[2]];
+    const double n0 = (b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]);
+    const double n1 = (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]);
+    const double n2 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    if (n0 * (a[0] + b[0] + c[0]) + n1 * (a[1] + b[1] + c[1]) + n2 * (a[2] + b[2] + c[2]) < 0) std::swap(tri[1], tri[2]);
+  }
+  for (int s = 0; s < subdivisions; ++s) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
+    auto middle = [&](std::uint32_t a, std::uint32_t b) {
+      const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+      const auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      v.push_back(unit({v[a][0] + v[b][0], v[a][1] + v[b][1], v[a][2] + v[b][2]}));
+      const auto id = static_cast<std::uint32_t>(v.size() - 1);
+      mid.emplace(key, id);
+      return id;
+    };
+    std::vector<std::array<std::uint32_t, 3>> g;
+    g.reserve(f.size() * 4);
+    for (const auto& tri : f) {
+      const std::uint32_t ab = middle(tri[0], tri[1]), bc = middle(tri[1], tri[2]), ca = middle(tri[2], tri[0]);
+      g.push_back({tri[0], ab, ca});
+      g.push_back({tri[1], bc, ab});
+      g.push_back({tri[2], ca, bc});
+      g.push_back({ab, bc, ca});
+    }
+    f.swap(g);
+  }
+  triangle_mesh m;
+  m.vertices.reserve(v.size());
+  for (const auto& p : v)
+    m.vertices.push_back({centre[0] + radii[0] * p[0], centre[1] + radii[1] * p[1], centre[2] + radii[2] * p[2]});
+  m.triangles = std::move(f);
+  return m;
+}
+
+/// A torus about the z axis through @p centre: tube radius @p minor around a circle of radius
+/// @p major, @p segments_major x @p segments_minor quads split in two triangles; closed, facing outward.
+/// @throws std::invalid_argument unless 0 < minor < major and both segment counts are >= 3.
+inline triangle_mesh torus_mesh(const point<3>& centre, double major, double minor, int segments_major,
+                                int segments_minor) {
+  if (!(minor > 0 && major > minor) || segments_major < 3 || segments_minor < 3)
+    throw std::invalid_argument("geovoronoi::phantom::torus_mesh: needs 0 < minor < major and at least 3 segments each way");
+  const double pi = 3.14159265358979323846;
+  triangle_mesh m;
+  const auto nu = static_cast<std::uint32_t>(segments_major), nv = static_cast<std::uint32_t>(segments_minor);
+  for (std::uint32_t i = 0; i < nu; ++i)
+    for (std::uint32_t j = 0; j < nv; ++j) {
+      const double th = 2 * pi * i / nu, ph = 2 * pi * j / nv;
+      const double r = major + minor * std::cos(ph);
+      m.vertices.push_back({centre[0] + r * std::cos(th), centre[1] + r * std::sin(th), centre[2] + minor * std::sin(ph)});
+    }
+  auto at = [&](std::uint32_t i, std::uint32_t j) { return (i % nu) * nv + (j % nv); };
+  for (std::uint32_t i = 0; i < nu; ++i)
+    for (std::uint32_t j = 0; j < nv; ++j) {
+      // d/dtheta x d/dphi points outward
+      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  return m;
+}
+
+/// The demo's mesh phantom, in millimetres, centred at 0: a soft-tissue ellipsoid of 120 x 60 x 40
+/// ("flesh", value 2e4, label 1) and inside it a thin stiff ellipsoid of 90 x 12 x 12 along x
+/// ("bone", value 1.5e10, label 2), listed flesh then bone so overlap_rule::last_wins puts the bone on top.
+inline std::vector<voxelize_part> limb() {
+  std::vector<voxelize_part> parts(2);
+  parts[0].mesh = ellipsoid_mesh({0, 0, 0}, {60, 30, 20}, 4);
+  parts[0].value = 2.0e4;
+  parts[0].label = 1;
+  parts[0].name = "flesh";
+  parts[1].mesh = ellipsoid_mesh({0, 0, 0}, {45, 6, 6}, 3);
+  parts[1].value = 1.5e10;
+  parts[1].label = 2;
+  parts[1].name = "bone";
+  return parts;
 }
 
 }  // namespace geovoronoi::phantom

@@ -1,9 +1,12 @@
-// libFuzzer target: the STL (ASCII and binary) and OBJ parsers on the same bytes, and a cut built from
-// whatever mesh they accept on a small grid (the exact predicates must not overflow or crash).
+// libFuzzer target: the STL (ASCII and binary) and OBJ parsers on the same bytes, and a cut and a
+// voxelization (both inside rules, surface voxels and fractions) built from whatever mesh they accept
+// on a small grid (the exact predicates must not overflow or crash; the checks throw
+// std::invalid_argument, the only exception voxelize documents besides bad_alloc).
 #include "fuzz_common.hpp"
 #include <geovoronoi/cut_from_mesh.hpp>
 #include <geovoronoi/io/obj.hpp>
 #include <geovoronoi/io/stl.hpp>
+#include <geovoronoi/voxelize.hpp>
 
 #include <stdexcept>
 
@@ -14,6 +17,22 @@ void cut_small(const geovoronoi::triangle_mesh& m) {
     const geovoronoi::grid<3> g({5, 4, 3}, {1.0, 0.5, 2.0}, {-1.0, 0.0, 0.5});
     (void)geovoronoi::cut_from_mesh(g, geovoronoi::connectivity<26>{}, m);
   } catch (const std::invalid_argument&) {  // vertices far outside the lattice range
+  }
+  const geovoronoi::grid<3> g({6, 5, 4}, {1.0, 0.5, 2.0}, {-1.0, 0.0, 0.5});
+  std::vector<geovoronoi::voxelize_part> parts(1);
+  parts[0].mesh = m;
+  for (auto rule : {geovoronoi::inside_rule::closed, geovoronoi::inside_rule::winding}) {
+    geovoronoi::voxelize_options o;
+    o.rule = rule;
+    o.surface_inside = rule == geovoronoi::inside_rule::winding;
+    o.fraction_samples = 2;
+    o.threads = 1;
+    try {
+      const auto v = geovoronoi::voxelize<float>(parts, g, o);
+      for (float f : v.fraction)
+        if (!(f >= 0.0f && f <= 1.0f)) __builtin_trap();
+    } catch (const std::invalid_argument&) {  // open, flipped, self-intersecting, degenerate, far away
+    }
   }
 }
 }  // namespace

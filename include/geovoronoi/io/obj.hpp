@@ -1,6 +1,6 @@
 #pragma once
 /// @file io/obj.hpp
-/// @brief Wavefront OBJ reader (geometry only) into a triangle_mesh.
+/// @brief Wavefront OBJ reader (geometry only) into a triangle_mesh; OBJ writer.
 ///
 /// Reads `v x y z [w]` (w ignored) and `f` records; every other record (vt, vn, g, o, s, l, p,
 /// usemtl, mtllib, ...) and `#` comments are skipped. A face vertex may be written `v`, `v/vt`,
@@ -16,6 +16,7 @@
 
 #include <cerrno>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -108,5 +109,31 @@ inline triangle_mesh parse_obj(const std::string& path, const std::vector<unsign
 
 /// Reads an OBJ file (see parse_obj()).
 inline triangle_mesh read_obj(const std::string& path) { return parse_obj(path, read_file(path)); }
+
+/**
+ * @brief Writes @p mesh as OBJ text: one `v x y z` record per vertex (17 significant digits, so it
+ *        reads back exactly) and one `f a b c` record (1-based) per triangle.
+ * @throws io_error naming @p path when a triangle refers to a missing vertex or the file cannot be
+ *         written.
+ */
+inline void write_obj(const std::string& path, const triangle_mesh& mesh) {
+  std::string text = "# written by geovoronoi\n";
+  char buf[128];
+  for (const auto& v : mesh.vertices) {
+    std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", v[0], v[1], v[2]);
+    text += buf;
+  }
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k)
+      if (tri[k] >= mesh.vertices.size())
+        throw io_error(path, "triangle " + std::to_string(t) + " refers to vertex " + std::to_string(tri[k]) + " of " +
+                                 std::to_string(mesh.vertices.size()));
+    std::snprintf(buf, sizeof buf, "f %lu %lu %lu\n", static_cast<unsigned long>(tri[0]) + 1,
+                  static_cast<unsigned long>(tri[1]) + 1, static_cast<unsigned long>(tri[2]) + 1);
+    text += buf;
+  }
+  detail::write_file(path, text.data(), text.size());
+}
 
 }  // namespace geovoronoi::io

@@ -1,6 +1,6 @@
 #pragma once
 /// @file io/stl.hpp
-/// @brief STL reader, ASCII and binary, into a triangle_mesh.
+/// @brief STL reader, ASCII and binary, into a triangle_mesh; binary STL writer.
 ///
 /// Binary or ASCII is decided by content, not by the first word: a file of at least 84 bytes whose
 /// size is exactly 84 + 50 * (the triangle count at byte 80) is binary, even when its header starts
@@ -233,5 +233,46 @@ inline triangle_mesh parse_stl(const std::string& path, const std::vector<unsign
 
 /// Reads an STL file (see parse_stl()).
 inline triangle_mesh read_stl(const std::string& path) { return parse_stl(path, read_file(path)); }
+
+/**
+ * @brief Writes @p mesh as binary STL: an 80-byte header, the triangle count, then per triangle its
+ *        unit normal (from the vertex order), three vertices as little-endian float32 and two zero
+ *        attribute bytes. Coordinates are rounded to float.
+ * @throws io_error naming @p path when a triangle refers to a missing vertex, there are more than
+ *         2^32 - 1 triangles, or the file cannot be written.
+ */
+inline void write_stl(const std::string& path, const triangle_mesh& mesh) {
+  if (mesh.triangles.size() > 0xFFFFFFFFu) throw io_error(path, "binary STL holds at most 2^32 - 1 triangles");
+  std::vector<unsigned char> out(84 + 50 * mesh.triangles.size(), 0);
+  const char head[] = "binary STL written by geovoronoi";
+  std::memcpy(out.data(), head, sizeof head - 1);
+  auto put32 = [&](std::size_t at, std::uint32_t x) {
+    for (int b = 0; b < 4; ++b) out[at + std::size_t(b)] = static_cast<unsigned char>(x >> (8 * b));
+  };
+  auto putf = [&](std::size_t at, double x) {
+    const float f = static_cast<float>(x);
+    std::uint32_t u;
+    std::memcpy(&u, &f, 4);
+    put32(at, u);
+  };
+  put32(80, static_cast<std::uint32_t>(mesh.triangles.size()));
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k)
+      if (tri[k] >= mesh.vertices.size())
+        throw io_error(path, "triangle " + std::to_string(t) + " refers to vertex " + std::to_string(tri[k]) + " of " +
+                                 std::to_string(mesh.vertices.size()));
+    const auto &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
+    double n[3] = {(b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]),
+                   (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]),
+                   (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])};
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    const std::size_t at = 84 + 50 * t;
+    for (int k = 0; k < 3; ++k) putf(at + 4 * std::size_t(k), len > 0 ? n[k] / len : 0.0);
+    for (int v = 0; v < 3; ++v)
+      for (int k = 0; k < 3; ++k) putf(at + 12 + 12 * std::size_t(v) + 4 * std::size_t(k), mesh.vertices[tri[v]][k]);
+  }
+  detail::write_file(path, out.data(), out.size());
+}
 
 }  // namespace geovoronoi::io
