@@ -13,6 +13,7 @@
 #include <geovoronoi/io/metaimage.hpp>
 #include <geovoronoi/io/picture.hpp>
 #include <geovoronoi/io/png.hpp>
+#include <geovoronoi/io/stl.hpp>
 #include <geovoronoi/phantom.hpp>
 
 #include <algorithm>
@@ -233,9 +234,14 @@ int run(const std::vector<std::string>& args) {
   bar.update("mesh");
   {
     t0 = bar.seconds();
-    const auto limb = gv::phantom::limb();
+    // the parts as `voxelize` reads them back from the files (binary STL holds float coordinates)
     const std::string sub = out.subdir("mesh");
-    for (const auto& part : limb) gio::write_stl(sub + "/" + part.name + ".stl", part.mesh);
+    std::vector<mesh_spec> specs;
+    for (const auto& part : gv::phantom::limb()) {
+      gio::write_stl(sub + "/" + part.name + ".stl", part.mesh);
+      specs.push_back({sub + "/" + part.name + ".stl", part.value, part.label});
+    }
+    const auto limb = read_mesh_parts(specs);
     gv::voxelize_options vo;
     vo.voxel_size = {1.0, 1.0, 1.0};
     vo.pad = 2;
