@@ -246,12 +246,16 @@ namespace {
 /// j.field already when the meshes are voxelized in float: read from `--stiffness FILE`, or
 /// voxelized from `--mesh MESH[:VALUE[:LABEL]]...` on the grid of --voxel-size / --voxels (the one
 /// place where a solve's field comes from). Returns whether j.field holds it.
-bool load_field(job& j, const arguments& a, const std::string& precision) {
+/// Exactly one of --stiffness and --mesh (checked first, before the other required options).
+void check_field_options(const arguments& a) {
   const bool file = a.has("--stiffness"), meshes = a.has("--mesh");
   if (file && meshes) throw usage_error("give --stiffness FILE or --mesh MESH..., not both");
   if (!file && !meshes)
     throw usage_error("missing required option --stiffness FILE (or --mesh MESH[:VALUE[:LABEL]] with --voxel-size)");
-  if (file) {
+}
+
+bool load_field(job& j, const arguments& a, const std::string& precision) {
+  if (a.has("--stiffness")) {
     for (const auto& o : mesh_grid_options())
       if (a.has(o)) throw usage_error(o + " applies to --mesh only (a --stiffness file has its own grid)");
     for (const auto& o : mesh_grid_flags())
@@ -306,6 +310,7 @@ bool load_field(job& j, const arguments& a, const std::string& precision) {
 
 job load_job(const arguments& a) {
   job j;
+  check_field_options(a);
   j.seeds_path = a.require("--seeds");
   j.out = a.require("--out");
   j.metric = parse_metric(a.get("--metric", "min_stiffness"));
