@@ -43,6 +43,11 @@ def _cut_from_polylines(lines: Sequence[npt.NDArray[np.float64]], shape: Sequenc
                         origin: Sequence[float], orientation: Sequence[float],
                         connectivity: int) -> Tuple[_CutHandle, Dict[str, int]]: ...
 def _read_mesh(path: str) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64]]: ...
+def _voxelize(meshes: Sequence[Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], float, int, str]],
+              voxel_size: Sequence[float], voxels: Sequence[int], pad: int, rotate: bool, winding: bool, overlap: str,
+              surface_inside: bool, fraction: int, outside_value: float, double: bool
+              ) -> Tuple[np.ndarray, np.ndarray, Optional[np.ndarray], List[float], List[float],
+                         npt.NDArray[np.float64], Dict[str, Any]]: ...
 def _shape_functions(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float], metric: str,
                      connectivity: int, backend: str, threads: int, diagram: _DiagramHandle, method: str, k: int,
                      batch_size: int, progress: Optional[Callable[[float], Any]],

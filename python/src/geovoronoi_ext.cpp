@@ -14,6 +14,7 @@
 #include <geovoronoi/io/mesh.hpp>
 #include <geovoronoi/io/metaimage.hpp>
 #include <geovoronoi/io/vti.hpp>
+#include <geovoronoi/voxelize.hpp>
 
 using namespace gvpy;
 
@@ -37,10 +38,8 @@ nb::dict cut_stats_dict(const gv::cut_stats& st) {
   return d;
 }
 
-/// (cut, stats) of a triangle mesh whose vertices are world points in array-axis order (z, y, x).
-nb::object cut_from_mesh_entry(in_array vertices, in_array triangles, std::vector<std::size_t> shape,
-                               std::vector<double> spacing, std::vector<double> origin, std::vector<double> orientation,
-                               int connectivity) {
+/// A mesh from (n, 3) float64 vertices in array-axis order (z, y, x) and (m, 3) int64 triangles.
+gv::triangle_mesh mesh_from_arrays(const in_array& vertices, const in_array& triangles) {
   if (vertices.dtype() != nb::dtype<double>() || vertices.ndim() != 2 || vertices.shape(1) != 3)
     throw std::invalid_argument("geovoronoi: vertices must be an (n, 3) float64 array");
   if (triangles.dtype() != nb::dtype<std::int64_t>() || triangles.ndim() != 2 || triangles.shape(1) != 3)
@@ -60,6 +59,14 @@ nb::object cut_from_mesh_entry(in_array vertices, in_array triangles, std::vecto
     }
     mesh.triangles.push_back(tri);
   }
+  return mesh;
+}
+
+/// (cut, stats) of a triangle mesh whose vertices are world points in array-axis order (z, y, x).
+nb::object cut_from_mesh_entry(in_array vertices, in_array triangles, std::vector<std::size_t> shape,
+                               std::vector<double> spacing, std::vector<double> origin, std::vector<double> orientation,
+                               int connectivity) {
+  const gv::triangle_mesh mesh = mesh_from_arrays(vertices, triangles);
   const auto g = make_grid<3>(shape, spacing, origin, orientation);
   const auto plain = make_grid<3>(shape, spacing, origin);
   cut_handle h;
@@ -73,6 +80,71 @@ nb::object cut_from_mesh_entry(in_array vertices, in_array triangles, std::vecto
     });
   }
   return nb::make_tuple(h, cut_stats_dict(st));
+}
+
+using voxelize_mesh = std::tuple<in_array, in_array, double, int, std::string>;  // vertices, triangles, value, label, name
+
+/// The library's voxelize() of the parts @p meshes: (stiffness, label, fraction or None, spacing,
+/// origin, orientation, stats) with arrays [z, y, x], spacing and origin in array-axis order and the
+/// orientation's rows and columns too. @p voxel_size and @p voxels arrive in array-axis order (one of
+/// them empty).
+template <class T>
+nb::object voxelize_typed(const std::vector<gv::voxelize_part>& parts, const gv::voxelize_options& o) {
+  gv::voxelization<T> v;
+  {
+    nb::gil_scoped_release release;
+    v = gv::voxelize<T>(parts, o);
+  }
+  const auto& g = v.label.geometry();
+  const auto shape = array_shape(g);
+  std::vector<double> spacing, origin, orient;
+  for (int a = 2; a >= 0; --a) spacing.push_back(g.spacing(a)), origin.push_back(g.origin()[std::size_t(a)]);
+  for (int r = 2; r >= 0; --r)
+    for (int c = 2; c >= 0; --c) orient.push_back(g.direction()[std::size_t(3 * r + c)]);
+  nb::dict st;
+  st["triangles"] = v.stats.triangles;
+  st["degenerate"] = v.stats.degenerate;
+  st["crossings"] = v.stats.crossings;
+  st["inside_voxels"] = v.stats.inside_voxels;
+  st["mesh_volume"] = v.stats.mesh_volume;
+  nb::object fraction = nb::none();
+  if (v.fraction.size() > 0) fraction = vector_to_numpy(std::move(v.fraction.values()), shape);
+  return nb::make_tuple(vector_to_numpy(std::move(v.stiffness.values()), shape),
+                        vector_to_numpy(std::move(v.label.values()), shape), fraction, spacing, origin,
+                        vector_to_numpy(std::move(orient), {3, 3}), st);
+}
+
+nb::object voxelize_entry(std::vector<voxelize_mesh> meshes, std::vector<double> voxel_size,
+                          std::vector<std::int64_t> voxels, std::int64_t pad, bool rotate, bool winding,
+                          const std::string& overlap, bool surface_inside, int fraction, double outside_value,
+                          bool in_double) {
+  std::vector<gv::voxelize_part> parts;
+  for (const auto& m : meshes) {
+    gv::voxelize_part p;
+    p.mesh = mesh_from_arrays(std::get<0>(m), std::get<1>(m));
+    p.value = std::get<2>(m);
+    p.label = gv::label_t(std::get<3>(m));
+    p.name = std::get<4>(m);
+    parts.push_back(std::move(p));
+  }
+  gv::voxelize_options o;
+  if (voxel_size.size() == 3)
+    for (int a = 0; a < 3; ++a) o.voxel_size[a] = voxel_size[std::size_t(2 - a)];
+  if (voxels.size() == 3)
+    for (int a = 0; a < 3; ++a) o.voxels[a] = index_t(voxels[std::size_t(2 - a)]);
+  o.pad = index_t(pad);
+  o.principal_axes = rotate;
+  o.rule = winding ? gv::inside_rule::winding : gv::inside_rule::closed;
+  if (overlap == "last") o.overlap = gv::overlap_rule::last_wins;
+  else if (overlap == "first") o.overlap = gv::overlap_rule::first_wins;
+  else if (overlap == "max") o.overlap = gv::overlap_rule::max_value;
+  else if (overlap == "min") o.overlap = gv::overlap_rule::min_value;
+  else if (overlap == "error") o.overlap = gv::overlap_rule::error;
+  else throw std::invalid_argument("geovoronoi: overlap must be last, first, max, min or error");
+  o.surface_inside = surface_inside;
+  o.fraction_samples = fraction;
+  o.outside_value = outside_value;
+  return in_double ? voxelize_typed<double>(parts, o) : voxelize_typed<float>(parts, o);
 }
 
 /// (cut, stats) of 2D polylines whose points are world points in array-axis order (y, x).
@@ -352,6 +424,9 @@ NB_MODULE(_geovoronoi, m) {
   m.def("_cut_from_polylines", &cut_from_polylines_entry, nb::arg("lines"), nb::arg("shape"), nb::arg("spacing"),
         nb::arg("origin"), nb::arg("orientation"), nb::arg("connectivity"));
   m.def("_read_mesh", &read_mesh_entry, nb::arg("path"));
+  m.def("_voxelize", &voxelize_entry, nb::arg("meshes"), nb::arg("voxel_size"), nb::arg("voxels"), nb::arg("pad"),
+        nb::arg("rotate"), nb::arg("winding"), nb::arg("overlap"), nb::arg("surface_inside"), nb::arg("fraction"),
+        nb::arg("outside_value"), nb::arg("double"));
   m.def("_shape_functions", &shape_entry, nb::arg("field").noconvert(), nb::arg("spacing"), nb::arg("origin"),
         nb::arg("metric"), nb::arg("connectivity"), nb::arg("backend"), nb::arg("threads"), nb::arg("diagram"),
         nb::arg("method"), nb::arg("k"), nb::arg("batch_size"), nb::arg("progress").none(),

@@ -18,6 +18,7 @@ struct command {
 extern const command voronoi_command;
 extern const command shape_functions_command;
 extern const command cut_command;
+extern const command voxelize_command;
 extern const command demo_command;
 extern const command backends_command;
 

@@ -2,6 +2,7 @@
 #include "job.hpp"
 
 #include "errors.hpp"
+#include "meshes.hpp"
 #include "outputs.hpp"
 #include "seed_file.hpp"
 
@@ -86,6 +87,13 @@ std::string precision_option(const arguments& a) {
   return p;
 }
 
+/// @p x with the digits a double needs, for messages.
+std::string value_text(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", x);
+  return buf;
+}
+
 /// The field in float, refusing a value that float would turn into 0 or +-inf (a stiffness of 1e-50
 /// would silently leave the object, 1e300 would become an infinitely stiff voxel).
 gv::image<float, 3> to_float(const gv::image<double, 3>& f, const std::string& path) {
@@ -111,13 +119,18 @@ gv::image<float, 3> to_float(const gv::image<double, 3>& f, const std::string& p
 
 std::set<std::string> solve_options(std::set<std::string> extra) {
   extra.insert({"--stiffness", "--seeds", "--metric", "--connectivity", "--backend", "--out", "--extrude", "--threads",
-                "--precision", "--cut"});
+                "--precision", "--cut", "--mesh"});
+  for (const auto& o : mesh_grid_options()) extra.insert(o);
   return extra;
 }
 
-std::set<std::string> solve_flags() { return {"--world"}; }
+std::set<std::string> solve_flags() {
+  auto f = mesh_grid_flags();
+  f.insert("--world");
+  return f;
+}
 
-std::set<std::string> solve_repeatable() { return {"--cut"}; }
+std::set<std::string> solve_repeatable() { return {"--cut", "--mesh"}; }
 
 namespace {
 /// "x A to B, y C to D, z E to F" of a bounding box, for messages.
@@ -227,9 +240,77 @@ void make_problem_of(job& j, const arguments& a) {
 }
 }  // namespace
 
+namespace {
+
+/// The field of the run in j.field_double (to be checked for --precision auto and converted), or in
+/// j.field already when the meshes are voxelized in float: read from `--stiffness FILE`, or
+/// voxelized from `--mesh MESH[:VALUE[:LABEL]]...` on the grid of --voxel-size / --voxels (the one
+/// place where a solve's field comes from). Returns whether j.field holds it.
+/// Exactly one of --stiffness and --mesh (checked first, before the other required options).
+void check_field_options(const arguments& a) {
+  const bool file = a.has("--stiffness"), meshes = a.has("--mesh");
+  if (file && meshes) throw usage_error("give --stiffness FILE or --mesh MESH..., not both");
+  if (!file && !meshes)
+    throw usage_error("missing required option --stiffness FILE (or --mesh MESH[:VALUE[:LABEL]] with --voxel-size)");
+}
+
+bool load_field(job& j, const arguments& a, const std::string& precision) {
+  if (a.has("--stiffness")) {
+    for (const auto& o : mesh_grid_options())
+      if (a.has(o)) throw usage_error(o + " applies to --mesh only (a --stiffness file has its own grid)");
+    for (const auto& o : mesh_grid_flags())
+      if (a.has(o)) throw usage_error(o + " applies to --mesh only (a --stiffness file has its own grid)");
+    j.stiffness_path = j.field_name = a.get("--stiffness");
+    const std::string ext = lower_extension(j.stiffness_path);
+    const bool picture = ext == ".pgm" || ext == ".ppm" || ext == ".pnm";
+    if (a.has("--extrude") && !picture) throw usage_error("--extrude applies to .pgm/.ppm pictures only");
+    gio::read_options ro;
+    ro.extrude = index_t(a.integer("--extrude", 1, 1, 100000));
+    require_regular_file(j.stiffness_path, "a stiffness file");
+    // read in double, so that float's limits are checked here rather than met silently in the reader
+    auto vol = gio::read_volume<double>(j.stiffness_path, ro);
+    if (vol.channels != 1)
+      throw usage_error(j.stiffness_path + ": has " + std::to_string(vol.channels) + " channels; a stiffness image needs 1");
+    j.field_double = vol.channel<3>(0);
+    return false;
+  }
+  if (a.has("--extrude")) throw usage_error("--extrude applies to .pgm/.ppm pictures only, not to --mesh");
+  std::vector<mesh_spec> specs;
+  for (const auto& m : a.all("--mesh")) {
+    specs.push_back(parse_mesh_spec(m));
+    j.field_name += (j.field_name.empty() ? "" : ", ") + specs.back().path;
+  }
+  const gv::voxelize_options o = parse_voxelize_options(a);
+  const auto parts = read_mesh_parts(specs);
+  std::string summary;
+  bool in_float = false;
+  if (precision == "float") {  // voxelized in float: every value must be one
+    for (std::size_t i = 0; i < parts.size(); ++i)
+      if (!gv::fits_in<float>(parts[i].value))
+        throw usage_error("--mesh " + a.all("--mesh")[i] + ": the value " + value_text(parts[i].value) + " " +
+                          (std::fabs(parts[i].value) > 1 ? "is beyond float's range (it would become infinite)"
+                                                         : "is too small for float (it would become 0)") +
+                          "; use --precision double (or auto), or rescale the values");
+    auto v = voxelize_parts<float>(parts, o);
+    summary = voxelize_summary(parts, v.label, v.stats);
+    j.field = std::move(v.stiffness);
+    in_float = true;
+  } else {
+    auto v = voxelize_parts<double>(parts, o);
+    summary = voxelize_summary(parts, v.label, v.stats);
+    j.field_double = std::move(v.stiffness);
+  }
+  const auto& g = in_float ? j.field.geometry() : j.field_double.geometry();
+  j.notes.push_back("voxelized the meshes: " + std::to_string(g.extent(0)) + "x" + std::to_string(g.extent(1)) + "x" +
+                    std::to_string(g.extent(2)) + " voxels, " + summary);
+  return in_float;
+}
+
+}  // namespace
+
 job load_job(const arguments& a) {
   job j;
-  j.stiffness_path = a.require("--stiffness");
+  check_field_options(a);
   j.seeds_path = a.require("--seeds");
   j.out = a.require("--out");
   j.metric = parse_metric(a.get("--metric", "min_stiffness"));
@@ -237,18 +318,7 @@ job load_job(const arguments& a) {
   j.solver = &pick_backend(a);
   j.threads = use_threads(a);
   const std::string precision = precision_option(a);
-  const std::string ext = lower_extension(j.stiffness_path);
-  const bool picture = ext == ".pgm" || ext == ".ppm" || ext == ".pnm";
-  if (a.has("--extrude") && !picture) throw usage_error("--extrude applies to .pgm/.ppm pictures only");
-  gio::read_options ro;
-  ro.extrude = index_t(a.integer("--extrude", 1, 1, 100000));
-  require_regular_file(j.stiffness_path, "a stiffness file");
-  // read in double, so that float's limits are checked here rather than met silently in the reader
-  auto vol = gio::read_volume<double>(j.stiffness_path, ro);
-  if (vol.channels != 1)
-    throw usage_error(j.stiffness_path + ": has " + std::to_string(vol.channels) + " channels; a stiffness image needs 1");
-  j.field_double = vol.channel<3>(0);
-  vol = {};
+  const bool in_float = load_field(j, a, precision);
   if (precision == "double") {
     j.in_double = true;
   } else if (precision == "auto") {  // double only when float could overflow or lose a value
@@ -265,8 +335,8 @@ job load_job(const arguments& a) {
                                                         : "--precision auto chose double for this field, which") +
                       lean_note());
 #endif
-  if (!j.in_double) {
-    j.field = to_float(j.field_double, j.stiffness_path);
+  if (!j.in_double && !in_float) {
+    j.field = to_float(j.field_double, j.field_name);
     j.field_double = {};
   }
   const auto& g = j.geometry();
@@ -325,7 +395,7 @@ gv::diagram<T, 3> solve_diagram(const job& j, const typed_problem<T, 3>& p, cons
       throw usage_error(locate_seed_error(e.what(), j.seeds_path, j.seed_lines));
     } catch (const gv::overflow_error& e) {
       // in double the library's advice (rescale) is all there is; in float the flags come first
-      throw usage_error(j.stiffness_path + ": " + library_message(e) +
+      throw usage_error(j.field_name + ": " + library_message(e) +
                         (std::is_same_v<T, float> ? " (on the command line: --precision double, or auto)" : ""));
     }
   }();

@@ -1,5 +1,6 @@
 #pragma once
-// What `voronoi`, `shape-functions` and `cut` share: the options, loading the field and the seeds,
+// What `voronoi`, `shape-functions` and `cut` share: the options, loading the field (a stiffness file,
+// or meshes voxelized: --mesh) and the seeds,
 // choosing the backend, the run's typed problem (made once, typed_problem.hpp), solving the diagram
 // with seed errors reported by file and line, writing the outputs.
 
@@ -23,6 +24,8 @@ namespace gvcli {
 /// solving).
 struct job {
   std::string stiffness_path, seeds_path, out;
+  /// What the field came from, for messages: the --stiffness file, or the --mesh files (comma-separated).
+  std::string field_name;
   metric_id metric = metric_id::min_stiffness;
   int connectivity = 26;
   const backend* solver = nullptr;

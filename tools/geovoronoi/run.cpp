@@ -2,7 +2,8 @@
 // extension's cli_main() (`python -m geovoronoi`). This file only dispatches: the commands live in
 // commands/ (one file each), the backend table in backends.cpp.
 //
-//   geovoronoi COMMAND [options]      COMMAND: voronoi, shape-functions, cut, demo, backends
+//   geovoronoi COMMAND [options]      COMMAND: voronoi, shape-functions, cut, voxelize, demo,
+//                                    backends
 //   geovoronoi help [COMMAND]         geovoronoi COMMAND --help         geovoronoi --version
 //
 // Exit codes (errors.hpp): 0 success, 2 usage or bad input, 1 runtime failure; one line on stderr.
@@ -28,7 +29,7 @@ using gvcli::command;
 using gvcli::usage_error;
 
 const command* const commands[] = {&gvcli::voronoi_command, &gvcli::shape_functions_command, &gvcli::cut_command,
-                                   &gvcli::demo_command,
+                                   &gvcli::voxelize_command, &gvcli::demo_command,
                                    &gvcli::backends_command};
 
 std::string command_names() {

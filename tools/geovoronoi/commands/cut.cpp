@@ -5,6 +5,7 @@
 #include "../change.hpp"
 #include "../command.hpp"
 #include "../job.hpp"
+#include "../meshes.hpp"
 #include "../outputs.hpp"
 
 #include <algorithm>
@@ -258,7 +259,8 @@ int run(const std::vector<std::string>& args) {
 
 const command cut_command = {
     "cut", "a diagram before and after a cut or carving: incremental update vs full recompute",
-    "usage: geovoronoi cut --stiffness FILE --seeds FILE (--cut MESH | --carve BOX)... --out DIR [options]\n"
+    "usage: geovoronoi cut (--stiffness FILE | --mesh MESH... --voxel-size S) --seeds FILE\n"
+    "                      (--cut MESH | --carve BOX)... --out DIR [options]\n"
     "\n"
     "Solves the Voronoi diagram, applies a change (cut surfaces and/or a carved box), updates the\n"
     "diagram incrementally (only the voxels whose shortest path crossed the change are re-solved),\n"
@@ -269,7 +271,8 @@ const command cut_command = {
     "changed problem, and both times are printed.\n"
     "\n"
     "options:\n"
-    "  --stiffness FILE    the field: .mhd/.mha (MetaImage), .npy, or .pgm/.ppm (required)\n"
+    "  --stiffness FILE    the field: .mhd/.mha (MetaImage), .npy, or .pgm/.ppm (required, or --mesh)\n"
+    GEOVORONOI_CLI_MESH_HELP
     "  --seeds FILE        CSV, one seed per line: i,j,k voxel indices (x,y,z with --world) (required)\n"
     "  --out DIR           output folder (required): written aside and swapped in as a whole\n"
     "  --cut MESH          a cut surface, .stl or .obj in world coordinates: the grid edges it meets\n"

@@ -1,8 +1,9 @@
 // geovoronoi demo: the built-in T-bone steak phantom, its Voronoi diagram under two metrics and two
-// kinds of shape functions, as pictures and volumes.
+// kinds of shape functions, as pictures and volumes; and the limb phantom's meshes, voxelized.
 #include "../backends.hpp"
 #include "../change.hpp"
 #include "../command.hpp"
+#include "../meshes.hpp"
 #include "../output_dir.hpp"
 #include "../outputs.hpp"
 #include "../progress_bar.hpp"
@@ -12,6 +13,7 @@
 #include <geovoronoi/io/metaimage.hpp>
 #include <geovoronoi/io/picture.hpp>
 #include <geovoronoi/io/png.hpp>
+#include <geovoronoi/io/stl.hpp>
 #include <geovoronoi/phantom.hpp>
 
 #include <algorithm>
@@ -227,14 +229,48 @@ int run(const std::vector<std::string>& args) {
                 t_weights, st.recomputed, st.rows, st.changed, t_dr, int(n));
     std::fflush(stdout);
   }
+  // meshes in: the limb phantom's surfaces (mm) written as STL, voxelized as `geovoronoi voxelize`
+  // does (1 mm voxels, 2 voxels of padding), and the cells of 8 nodes on its middle slice
+  bar.update("mesh");
+  {
+    t0 = bar.seconds();
+    // the parts as `voxelize` reads them back from the files (binary STL holds float coordinates)
+    const std::string sub = out.subdir("mesh");
+    std::vector<mesh_spec> specs;
+    for (const auto& part : gv::phantom::limb()) {
+      gio::write_stl(sub + "/" + part.name + ".stl", part.mesh);
+      specs.push_back({sub + "/" + part.name + ".stl", part.value, part.label});
+    }
+    const auto limb = read_mesh_parts(specs);
+    gv::voxelize_options vo;
+    vo.voxel_size = {1.0, 1.0, 1.0};
+    vo.pad = 2;
+    const auto vx = voxelize_parts<float>(limb, vo);
+    const auto& mg = vx.stiffness.geometry();
+    const auto mesh_seeds = mid_slice_seeds(vx.stiffness, 8);
+    gio::write_metaimage(sub + "/stiffness.mhd", vx.stiffness);
+    gio::write_metaimage(sub + "/label.mhd", vx.label);
+    write_seeds(sub + "/seeds.csv", mesh_seeds, "stiffness.mhd");
+    const gv::image_view<const float, 3> mv(mg, vx.stiffness.data());
+    const auto dm = make_typed_problem<float, 3>({solver.id, metric_id::min_stiffness, 26, false}, mv)->voronoi(mesh_seeds, plain);
+    gio::write_png(sub + "/materials.png", mesh_label_picture(vx.label, &vx.stiffness, "LIMB PHANTOM FROM MESHES: LABELS"));
+    gio::write_png(sub + "/mesh_labels.png",
+                   gio::label_picture(dm.label, dm.seeds, &vx.stiffness, pc.options("LIMB PHANTOM FROM MESHES: CELLS")));
+    std::printf("  mesh             %7.2f s (limb phantom: %zu meshes voxelized to %lldx%lldx%lld; %s)\n",
+                bar.seconds() - t0, limb.size(), (long long)mg.extent(0), (long long)mg.extent(1),
+                (long long)mg.extent(2), voxelize_summary(limb, vx.label, vx.stats).c_str());
+    std::fflush(stdout);
+  }
   bar.update("writing");
   out.commit();
   bar.finish();
   summary("demo", g, seeds.size(), backend_name, bar.seconds(), dir);
   std::printf("pictures: %s/labels_compare.png (uniform | min_stiffness), %s/labels.png, %s/labels_uniform.png,\n"
               "          %s/distance.png, %s/distance-ratio/weight_node0.png, %s/sibson/weight_node0.png,\n"
-              "          %s/cut/cut.png (before | after the cut), %s/cut/cut_weights.png (a weight before | after)\n",
-              dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str());
+              "          %s/cut/cut.png (before | after the cut), %s/cut/cut_weights.png (a weight before | after),\n"
+              "          %s/mesh/mesh_labels.png (cells on the voxelized limb meshes)\n",
+              dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(), dir.c_str(),
+              dir.c_str());
   return 0;
 }
 
@@ -248,7 +284,8 @@ const command demo_command = {
     "its middle slice, and computes its Voronoi diagram under min_stiffness and uniform, Distance Ratio\n"
     "weights on every voxel, Sibson weights at full resolution on the middle slice (z = 16), and the\n"
     "diagram after a cut beside the bone (incremental update, checked against a full recompute) with\n"
-    "the Distance Ratio weights updated for it.\n"
+    "the Distance Ratio weights updated for it. Then the limb phantom's meshes (flesh and bone, mm)\n"
+    "are written as STL, voxelized (1 mm voxels, as `geovoronoi voxelize` does) and their cells drawn.\n"
     "\n"
     "options:\n"
     "  --out DIR           output folder, replaced as a whole when the run succeeded (default: demo-out)\n"
@@ -271,6 +308,12 @@ const command demo_command = {
     "                      `geovoronoi cut` writes them, cut_weights.png (the Distance Ratio weight on\n"
     "                      the slice z = 16 of the node the cut changes most, before | after; the\n"
     "                      weights after come from update_shape_functions)\n"
+    "  mesh/               flesh.stl, bone.stl (the limb phantom's surfaces, mm), the voxelized\n"
+    "                      stiffness.mhd (flesh 2e4, bone 1.5e10) and label.mhd (1 flesh, 2 bone),\n"
+    "                      seeds.csv (8 nodes), materials.png (the labels) and mesh_labels.png (the\n"
+    "                      cells under min_stiffness): `geovoronoi voronoi --mesh mesh/flesh.stl:2e4:1\n"
+    "                      --mesh mesh/bone.stl:1.5e10:2 --voxel-size 1 --pad 2 --seeds mesh/seeds.csv`\n"
+    "                      gives the same cells\n"
     "\n"
     "example:\n"
     "  geovoronoi demo --out demo-out\n",

@@ -163,7 +163,8 @@ int run(const std::vector<std::string>& args) {
 
 const command shape_functions_command = {
     "shape-functions", "Distance Ratio, Sibson or Laplace shape functions of the seeds (nodes)",
-    "usage: geovoronoi shape-functions --stiffness FILE --seeds FILE --method M --out DIR [options]\n"
+    "usage: geovoronoi shape-functions (--stiffness FILE | --mesh MESH... --voxel-size S) --seeds FILE\n"
+    "                                  --method M --out DIR [options]\n"
     "\n"
     "The Voronoi shape functions of the nodes (the seeds): for every voxel, at most K (node, weight)\n"
     "pairs, weights >= 0 summing to 1 inside the object.\n"
@@ -179,7 +180,9 @@ const command shape_functions_command = {
     "  --connectivity N (default: 26), --backend B (default: the fastest built one that runs here),\n"
     "  --threads N (default: OMP_NUM_THREADS), --precision P (default: float; double computes\n"
     "  and writes the distance and the weights in double),\n"
-    "  --world, --extrude N (default: 1), --cut MESH (repeatable; no path crosses the cut), --help\n"
+    "  --world, --extrude N (default: 1), --cut MESH (repeatable; no path crosses the cut), --help,\n"
+    "  --mesh MESH[:VALUE[:LABEL]]... with --voxel-size S or --voxels NX,NY,NZ (instead of --stiffness;\n"
+    "  --pad N, --rotate, --winding)\n"
     "\n"
     "writes, in DIR: the files of `geovoronoi voronoi`, and\n"
     "  indices.mhd/.raw    K interleaved channels (ITK, ParaView, Slicer): node index + 1, 0 for an\n"

@@ -1,6 +1,7 @@
 // geovoronoi voronoi: the geodesic Voronoi diagram of a seed file over a stiffness volume.
 #include "../command.hpp"
 #include "../job.hpp"
+#include "../meshes.hpp"
 
 namespace gvcli {
 
@@ -15,14 +16,16 @@ int run(const std::vector<std::string>& args) {
 
 const command voronoi_command = {
     "voronoi", "the geodesic Voronoi diagram of the seeds (distance and label volumes, pictures)",
-    "usage: geovoronoi voronoi --stiffness FILE --seeds FILE --out DIR [options]\n"
+    "usage: geovoronoi voronoi (--stiffness FILE | --mesh MESH... --voxel-size S) --seeds FILE --out DIR\n"
+    "                          [options]\n"
     "\n"
     "The geodesic Voronoi diagram of the seeds over the stiffness volume: every voxel's distance to\n"
     "its nearest seed along paths inside the object, and that seed's index.\n"
     "\n"
     "options:\n"
     "  --stiffness FILE    the field: .mhd/.mha (MetaImage), .npy, or .pgm/.ppm (a picture, see --extrude)\n"
-    "                      (required)\n"
+    "                      (required, or --mesh)\n"
+    GEOVORONOI_CLI_MESH_HELP
     "  --seeds FILE        CSV, one seed per line: i,j,k voxel indices (x,y,z with --world); # comments\n"
     "                      (required)\n"
     "  --out DIR           output folder (required): written aside and swapped in as a whole when\n"
