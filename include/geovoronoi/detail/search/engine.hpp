@@ -1,6 +1,6 @@
 #pragma once
-// The shared Dijkstra engine: label-carrying Dijkstra on the implicit grid graph with a radix heap
-// over packed (distance, label) keys. One loop serves the dense solve, the bounded solve and
+// The shared Dijkstra engine: label-carrying Dijkstra on the implicit grid graph (or on an explicit
+// graph, a branching grid's copies: topology.hpp) with a radix heap over packed (distance, label) keys. One loop serves the dense solve, the bounded solve and
 // insert-query, for the seq backend and for the Thrust backend's host insert-query; they differ only
 // in where keys are stored (a dense array, or scratch bounded by what is visited: the pages of
 // sparse.hpp) and in which relaxations they accept.
@@ -9,6 +9,7 @@
 #include <geovoronoi/detail/search/radix_heap.hpp>
 #include <geovoronoi/detail/search/relax.hpp>
 #include <geovoronoi/detail/search/stencil_walk.hpp>
+#include <geovoronoi/detail/search/topology.hpp>
 #include <geovoronoi/metric.hpp>
 #include <geovoronoi/result.hpp>
 
@@ -108,7 +109,7 @@ template <class P, class State, class Heap, class Accept, class Monitor = no_mon
 std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept, Monitor&& mon = Monitor{}) {
   using T = typename P::value_type;
   using kt = key_traits<T>;
-  const stencil_walker<P::dim> walk(p);
+  const walker_t<P> walk(p);
   std::size_t settled = 0;
   while (!heap.empty()) {
     const auto it = heap.pop();
@@ -117,7 +118,7 @@ std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept, Monitor&& mo
     if constexpr (std::decay_t<Monitor>::watching)
       if ((settled & tick_mask) == 0) mon.tick(settled);
     const index_t v = it.voxel;
-    if constexpr (has_peek<Heap>::value)
+    if constexpr (has_peek<Heap>::value && implicit_grid_v<P>)
       if (const auto* nx = heap.peek_ready()) st.prefetch(nx->voxel, p.edges);
     const T dv = kt::distance(it.key);
     const label_t l = kt::label(it.key);
@@ -146,11 +147,12 @@ std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept, Monitor&& mo
   return settled;
 }
 
-/// Voxels of the domain (the denominator of the solves' progress).
+/// Voxels (nodes) of the domain (the denominator of the solves' progress).
 template <class P>
 index_t count_inside(const P& p) {
   index_t c = 0;
-  for (index_t v = 0; v < p.geometry.size(); ++v) c += detail::inside<typename P::metric_type>(p.field[v]) ? 1 : 0;
+  const index_t n = node_count(p);
+  for (index_t v = 0; v < n; ++v) c += detail::inside<typename P::metric_type>(p.field[v]) ? 1 : 0;
   return c > 0 ? c : 1;
 }
 
