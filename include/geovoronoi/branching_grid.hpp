@@ -117,6 +117,9 @@ class branching_grid {
   /// Per copy its stiffness.
   const std::vector<T>& stiffness() const noexcept { return p_.stiffness; }
 
+  /// The arrays the searches walk (detail/search/topology.hpp's link_walker), beside the public CSR.
+  const detail::branching::parts<Dim, T>& walk_parts() const noexcept { return p_; }
+
   /// "copy 12 (coarse cell (1, 2, 0), lowest fine voxel (4, 8, 1))", for messages.
   std::string copy_text(index_t c) const {
     return "copy " + std::to_string(c) + " (coarse cell " +
@@ -175,24 +178,32 @@ struct branching_problem {
   static constexpr int neighbours = N;
   static constexpr bool has_cuts = false;
 
-  const T* field = nullptr;  ///< per-copy stiffness
+  // The searches number the copies by slots (detail/branching/build.hpp): slot c is the first copy
+  // of cell c, so that most links are found like a grid's neighbours; the front end maps seeds and
+  // results between copies and slots.
+  const T* field = nullptr;  ///< per slot its copy's stiffness (NaN for an empty cell)
   Metric metric{};
   stencil<T, Dim, N> edges{};  ///< the coarse stencil
-  const index_t* link_begin = nullptr;
-  const index_t* link_node = nullptr;
-  const std::uint8_t* link_dir = nullptr;
-  index_t copies = 0;
+  const detail::search::copy_walk* walk = nullptr;  ///< per slot what the walk reads (link_walker)
+  const index_t* walk_extra_node = nullptr;
+  const std::uint8_t* walk_extra_dir = nullptr;
+  const index_t* copy_of_slot = nullptr;
+  const index_t* slot_of_copy = nullptr;
+  index_t slots = 0;
+  index_t cells = 0;      ///< coarse cells: slots below are their cell's first copy
   index_t max_links = 0;  ///< the most links of one copy
   const branching_grid<Dim, T, N>* owner = nullptr;
 
-  /// Number of nodes (copies).
-  GEOVORONOI_HOST_DEVICE index_t nodes() const noexcept { return copies; }
-  /// Whether copy @p c lies in the metric's domain (its stiffness does).
-  GEOVORONOI_HOST_DEVICE bool inside(index_t c) const noexcept { return detail::inside<Metric>(field[c]); }
+  /// Number of nodes the searches see (slots).
+  GEOVORONOI_HOST_DEVICE index_t nodes() const noexcept { return slots; }
+  /// Whether slot @p s holds a copy in the metric's domain.
+  GEOVORONOI_HOST_DEVICE bool inside(index_t s) const noexcept { return detail::inside<Metric>(field[s]); }
+  /// The parent rule's order of slot @p s: its copy's index.
+  index_t rank(index_t s) const noexcept { return copy_of_slot[s]; }
   /// The branching grid.
   const branching_grid<Dim, T, N>& grid_of() const noexcept { return *owner; }
-  /// A copy named for messages.
-  std::string node_text(index_t c) const { return owner->copy_text(c); }
+  /// Slot @p s named for messages (by its copy).
+  std::string node_text(index_t s) const { return owner->copy_text(copy_of_slot[s]); }
 };
 
 /**
@@ -203,14 +214,19 @@ template <int Dim, class T, int N, class Metric = min_stiffness>
 branching_problem<T, Dim, Metric, N> make_problem(const branching_grid<Dim, T, N>& bg, Metric metric = {}) {
   detail::check_edge_lengths<T, Dim, N>(bg.coarse());
   branching_problem<T, Dim, Metric, N> p;
-  p.field = bg.stiffness().data();
+  const auto& w = bg.walk_parts();
+  p.field = w.slot_stiffness.data();
   p.metric = metric;
   p.edges = stencil<T, Dim, N>(bg.coarse(), connectivity<N>{});
-  p.link_begin = bg.link_begin().data();
-  p.link_node = bg.link_copy().data();
-  p.link_dir = bg.link_dir().data();
-  p.copies = bg.copies();
-  for (index_t c = 0; c < p.copies; ++c) p.max_links = std::max(p.max_links, p.link_begin[c + 1] - p.link_begin[c]);
+  p.walk = w.walk.data();
+  p.walk_extra_node = w.walk_extra_node.data();
+  p.walk_extra_dir = w.walk_extra_dir.data();
+  p.copy_of_slot = w.copy_of_slot.data();
+  p.slot_of_copy = w.slot_of_copy.data();
+  p.slots = index_t(w.copy_of_slot.size());
+  p.cells = bg.coarse().size();
+  const auto& lb = bg.link_begin();
+  for (index_t c = 0; c < bg.copies(); ++c) p.max_links = std::max(p.max_links, lb[std::size_t(c) + 1] - lb[std::size_t(c)]);
   p.owner = &bg;
   return p;
 }
@@ -249,9 +265,9 @@ index_t seed_copy(const P& p, const C& c, std::size_t i) {
     throw std::invalid_argument(name + " at fine voxel " + to_string<Dim>(v) +
                                 " lies in empty material (its fine value is not > 0), where the branching grid has "
                                 "no copy");
-  if (!p.inside(copy))
+  if (!p.inside(p.slot_of_copy[copy]))
     throw std::invalid_argument(name + " at fine voxel " + to_string<Dim>(v) + " lies in " + bg.copy_text(copy) +
-                                ", whose stiffness " + std::to_string(double(p.field[copy])) +
+                                ", whose stiffness " + std::to_string(double(bg.stiffness()[std::size_t(copy)])) +
                                 " is outside the metric's domain");
   return copy;
 }
@@ -299,16 +315,31 @@ branching_diagram<T> voronoi(const Policy& policy, const branching_problem<T, Di
                                   p.grid_of().copy_text(order[i].first) + " of the branching grid");
   const T radius = detail::checked_radius<T>(opt);
   const auto ctl = detail::solve_control::of(opt);
-  branching_diagram<T> d = detail::with_threads(policy, opt.threads, [&] {
+  std::vector<source<T>> at_slots = s;
+  for (auto& x : at_slots) x.voxel = p.slot_of_copy[x.voxel];
+  const branching_diagram<T> by_slot = detail::with_threads(policy, opt.threads, [&] {
     if constexpr (detail::hooks::has_solve_nodes<Policy, P>::value)
-      return backend_solve_nodes(policy, p, s, radius, ctl);
+      return backend_solve_nodes(policy, p, at_slots, radius, ctl);
     else
       return branching_diagram<T>{};
   });
+  const auto copies = std::size_t(p.grid_of().copies());
+  branching_diagram<T> d;
+  d.distance.resize(copies);
+  d.label.resize(copies);
+  for (std::size_t a = 0; a < copies; ++a) {
+    d.distance[a] = by_slot.distance[std::size_t(p.slot_of_copy[a])];
+    d.label[a] = by_slot.label[std::size_t(p.slot_of_copy[a])];
+  }
   for (const auto& x : s) d.seeds.push_back(x.voxel);
   if (opt.with_parent) {
-    d.parent.assign(d.size(), no_index);
-    detail::search::parents_into(p, d.distance.data(), d.label.data(), s, d.parent.data());
+    std::vector<index_t> parent(by_slot.size(), no_index);
+    detail::search::parents_into(p, by_slot.distance.data(), by_slot.label.data(), at_slots, parent.data());
+    d.parent.assign(copies, no_index);
+    for (std::size_t a = 0; a < copies; ++a) {
+      const index_t ps = parent[std::size_t(p.slot_of_copy[a])];
+      d.parent[a] = ps < 0 ? no_index : p.copy_of_slot[ps];
+    }
   }
   return d;
 }

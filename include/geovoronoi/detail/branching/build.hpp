@@ -5,6 +5,7 @@
 // neighbouring cells whose fine material touches its own across the cells' border.
 
 #include <geovoronoi/connectivity.hpp>
+#include <geovoronoi/detail/search/topology.hpp>
 #include <geovoronoi/grid.hpp>
 #include <geovoronoi/image.hpp>
 
@@ -45,6 +46,17 @@ struct parts {
   std::vector<index_t> link_copy;
   std::vector<std::uint8_t> link_dir;
   image<index_t, Dim> fine_copy;
+  // The graph as the searches walk it (search::link_walker), over slots: slot c is the first copy of
+  // cell c (a cell's only copy, most often), the other copies of a cell get slots after the cells.
+  // A link to the only copy of neighbour cell k is bit k of the mask, its slot the cell's index,
+  // found like a grid's neighbour; the links to cells of several copies are rows of walk_extra.
+  // Slots of empty cells have stiffness NaN (outside every domain rule) and no links.
+  std::vector<index_t> slot_of_copy;     // copies
+  std::vector<index_t> copy_of_slot;     // slots, -1 for empty cells
+  std::vector<T> slot_stiffness;         // slots
+  std::vector<search::copy_walk> walk;   // slots
+  std::vector<index_t> walk_extra_node;  // slots
+  std::vector<std::uint8_t> walk_extra_dir;
 };
 
 /// The coarse grid of @p fine for @p factor: extents rounded up (the last cells padded with empty
@@ -254,6 +266,38 @@ parts<Dim, T> build(const image_view<const T, Dim>& field, int factor, stiffness
     }
   }
   out.link_begin[std::size_t(copies)] = index_t(out.link_copy.size());
+
+  // 4. the walk's form of the links, over slots
+  static_assert(N <= 32, "the walk mask holds one bit per stencil direction");
+  out.slot_of_copy.assign(std::size_t(copies), 0);
+  index_t extra_slot = cells;
+  for (index_t a = 0; a < copies; ++a) {
+    const index_t c = out.copy_cell[std::size_t(a)];
+    out.slot_of_copy[std::size_t(a)] = a == out.cell_begin[std::size_t(c)] ? c : extra_slot++;
+  }
+  const index_t slots = extra_slot;
+  out.copy_of_slot.assign(std::size_t(slots), -1);
+  out.slot_stiffness.assign(std::size_t(slots), std::numeric_limits<T>::quiet_NaN());
+  out.walk.assign(std::size_t(slots), search::copy_walk{});
+  for (index_t a = 0; a < copies; ++a) {
+    const index_t sa = out.slot_of_copy[std::size_t(a)];
+    out.copy_of_slot[std::size_t(sa)] = a;
+    out.slot_stiffness[std::size_t(sa)] = out.stiffness[std::size_t(a)];
+    auto& cw = out.walk[std::size_t(sa)];
+    cw.cell = out.copy_cell[std::size_t(a)];
+    cw.extra_begin = index_t(out.walk_extra_node.size());
+    for (index_t i = out.link_begin[std::size_t(a)]; i < out.link_begin[std::size_t(a) + 1]; ++i) {
+      const index_t w = out.link_copy[std::size_t(i)];
+      const index_t wc = out.copy_cell[std::size_t(w)];
+      if (out.cell_begin[std::size_t(wc) + 1] - out.cell_begin[std::size_t(wc)] == 1) {
+        cw.mask |= std::uint32_t(1) << out.link_dir[std::size_t(i)];
+      } else {
+        out.walk_extra_node.push_back(out.slot_of_copy[std::size_t(w)]);
+        out.walk_extra_dir.push_back(out.link_dir[std::size_t(i)]);
+        ++cw.extra_count;
+      }
+    }
+  }
   return out;
 }
 

@@ -118,8 +118,13 @@ std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept, Monitor&& mo
     if constexpr (std::decay_t<Monitor>::watching)
       if ((settled & tick_mask) == 0) mon.tick(settled);
     const index_t v = it.voxel;
-    if constexpr (has_peek<Heap>::value && implicit_grid_v<P>)
-      if (const auto* nx = heap.peek_ready()) st.prefetch(nx->voxel, p.edges);
+    if constexpr (has_peek<Heap>::value) {
+      if constexpr (implicit_grid_v<P>) {
+        if (const auto* nx = heap.peek_ready()) st.prefetch(nx->voxel, p.edges);
+      } else {
+        if (const auto* nx = heap.peek_ready()) walk.prefetch(nx->voxel);
+      }
+    }
     const T dv = kt::distance(it.key);
     const label_t l = kt::label(it.key);
     const T fv = st.field(v);

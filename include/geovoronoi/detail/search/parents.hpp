@@ -32,7 +32,9 @@ index_t lowest_realiser(const P& p, const walker_t<P>& walk, const typename P::v
   walk.for_each_neighbour(p, v, [&](int k, index_t u) {
     // a realiser carries v's label and, weights being >= 0, is no farther than v: test that first;
     // neighbours come in increasing index order, so the first realiser is the lowest-index one
-    if (best != no_index || lab[u] != l || !(dist[u] <= dv)) return;
+    // on an explicit graph neighbours may come in any order: keep the lowest realiser
+    if (best != no_index && (implicit_grid_v<P> || node_rank(p, u) > node_rank(p, best))) return;
+    if (lab[u] != l || !(dist[u] <= dv)) return;
     const T nd = extend(dist[u], edge_weight(p.metric, p.edges.length[k], p.field[u], fv));
     if (kt::make(nd, l) == target) best = u;
   });

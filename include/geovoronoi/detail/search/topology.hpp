@@ -1,8 +1,8 @@
 #pragma once
 // Which graph a search walks. A regular problem's nodes are the grid's voxels and its edges the
 // stencil's, found by stencil_walker without any adjacency in memory. A problem over an explicit
-// graph (a branching grid's copies, branching_grid.hpp) declares `walker_type`, a walker over its
-// compressed rows, and `nodes()`. The engines (engine.hpp, the Thrust engine), the parent rule and
+// graph (a branching grid's copies, branching_grid.hpp) declares `walker_type`, the walker of its
+// links, and `nodes()`. The engines (engine.hpp, the Thrust engine), the parent rule and
 // the overflow scan take their walker and their node count from here, so one relaxation loop serves
 // both; for a regular problem every name below resolves to what the loop used before, at no cost.
 
@@ -51,27 +51,62 @@ GEOVORONOI_HOST_DEVICE index_t max_degree(const P& p) noexcept {
     return p.max_links;
 }
 
+/// What the walk reads of one node, in one place (one cache line fetch per settled node).
+struct copy_walk {
+  index_t cell = 0;            ///< the node's coarse cell
+  index_t extra_begin = 0;     ///< its first entry in the extra rows
+  std::uint32_t mask = 0;      ///< bit k: linked to the only copy of neighbour cell k
+  std::uint32_t extra_count = 0;  ///< its entries in the extra rows
+};
+
+/// The order of node @p u for the parent rule (lowest wins): its index, or on an explicit graph the
+/// problem's rank (a branching grid's copy index).
+template <class P>
+index_t node_rank(const P& p, index_t u) noexcept {
+  if constexpr (implicit_grid_v<P>)
+    return u;
+  else
+    return p.rank(u);
+}
+
 /**
- * Walker over an explicit graph in compressed rows: node v's edges are entries
- * [link_begin[v], link_begin[v+1]) of link_node (the other end) and link_dir (the stencil direction
- * whose length the edge has). Rows are sorted by link_node, so neighbours come in increasing index
- * as they do on a grid (the parent rule takes the first realiser as the lowest-index one).
- * Trivially copyable; the arrays must be readable where the walk runs.
+ * Walker over a branching grid's copies (an explicit graph on a coarse grid), numbered by slots: slot
+ * c is the first copy of coarse cell c, a cell's other copies have slots after the cells. Most links
+ * of a copy go to the only copy of a neighbouring cell: those are the bits of its mask, bit k being
+ * the neighbour cell cell + delta[k] of the problem's stencil, which is that copy's slot, so they are
+ * found like a grid's neighbours, with nothing to read. The links to cells of several copies are its
+ * extra rows (extra_node, extra_dir). Neighbours do not come in increasing copy order (the parent rule
+ * compares node_rank). Trivially copyable; the arrays must be readable where the walk runs.
  */
 struct link_walker {
-  const index_t* begin = nullptr;
-  const index_t* node = nullptr;
-  const std::uint8_t* dir = nullptr;
+  const copy_walk* info = nullptr;
+  const index_t* extra_node = nullptr;
+  const std::uint8_t* extra_dir = nullptr;
 
   link_walker() = default;
   template <class P>
-  explicit link_walker(const P& p) : begin(p.link_begin), node(p.link_node), dir(p.link_dir) {}
+  explicit link_walker(const P& p)
+      : info(p.walk), extra_node(p.walk_extra_node), extra_dir(p.walk_extra_dir) {}
 
-  /// Calls f(k, u) for each edge v -> u of direction k, in increasing u.
+  /// Calls f(k, u) for each edge v -> u of stencil direction k.
   template <class P, class F>
-  GEOVORONOI_HOST_DEVICE void for_each_neighbour(const P&, index_t v, F&& f) const {
-    for (index_t i = begin[v], e = begin[v + 1]; i < e; ++i) f(int(dir[i]), node[i]);
+  GEOVORONOI_HOST_DEVICE void for_each_neighbour(const P& p, index_t v, F&& f) const {
+    const copy_walk w = info[v];
+    std::uint32_t m = w.mask;
+    while (m) {
+#ifdef __CUDA_ARCH__
+      const int k = __ffs(m) - 1;
+#else
+      const int k = __builtin_ctz(m);
+#endif
+      m &= m - 1;
+      f(k, w.cell + p.edges.delta[k]);
+    }
+    for (index_t i = w.extra_begin, e = w.extra_begin + w.extra_count; i < e; ++i) f(int(extra_dir[i]), extra_node[i]);
   }
+  /// Prefetches what walking @p v reads first (the search calls it for the next node it settles).
+  /// Prefetching the neighbours' keys too, as the grid walk does, measured slower here.
+  void prefetch(index_t v) const noexcept { __builtin_prefetch(info + v, 0, 1); }
 };
 
 }  // namespace geovoronoi::detail::search
