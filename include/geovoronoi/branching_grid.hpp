@@ -185,6 +185,7 @@ struct branching_problem {
   Metric metric{};
   stencil<T, Dim, N> edges{};  ///< the coarse stencil
   const detail::search::copy_walk* walk = nullptr;  ///< per slot what the walk reads (link_walker)
+  const std::uint32_t* walk_bits = nullptr;          ///< per slot its mask and row bit (link_walker)
   const index_t* walk_extra_node = nullptr;
   const std::uint8_t* walk_extra_dir = nullptr;
   const index_t* copy_of_slot = nullptr;
@@ -219,6 +220,7 @@ branching_problem<T, Dim, Metric, N> make_problem(const branching_grid<Dim, T, N
   p.metric = metric;
   p.edges = stencil<T, Dim, N>(bg.coarse(), connectivity<N>{});
   p.walk = w.walk.data();
+  p.walk_bits = w.walk_bits.data();
   p.walk_extra_node = w.walk_extra_node.data();
   p.walk_extra_dir = w.walk_extra_dir.data();
   p.copy_of_slot = w.copy_of_slot.data();

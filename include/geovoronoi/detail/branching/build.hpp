@@ -55,6 +55,7 @@ struct parts {
   std::vector<index_t> copy_of_slot;     // slots, -1 for empty cells
   std::vector<T> slot_stiffness;         // slots
   std::vector<search::copy_walk> walk;   // slots
+  std::vector<std::uint32_t> walk_bits;  // slots: the mask, | search::copy_walk::row_bit when the walk needs the row
   std::vector<index_t> walk_extra_node;  // slots
   std::vector<std::uint8_t> walk_extra_dir;
 };
@@ -268,7 +269,7 @@ parts<Dim, T> build(const image_view<const T, Dim>& field, int factor, stiffness
   out.link_begin[std::size_t(copies)] = index_t(out.link_copy.size());
 
   // 4. the walk's form of the links, over slots
-  static_assert(N <= 32, "the walk mask holds one bit per stencil direction");
+  static_assert(N <= 31, "the walk mask holds one bit per stencil direction, and the row bit");
   out.slot_of_copy.assign(std::size_t(copies), 0);
   index_t extra_slot = cells;
   for (index_t a = 0; a < copies; ++a) {
@@ -279,6 +280,7 @@ parts<Dim, T> build(const image_view<const T, Dim>& field, int factor, stiffness
   out.copy_of_slot.assign(std::size_t(slots), -1);
   out.slot_stiffness.assign(std::size_t(slots), std::numeric_limits<T>::quiet_NaN());
   out.walk.assign(std::size_t(slots), search::copy_walk{});
+  out.walk_bits.assign(std::size_t(slots), 0);
   for (index_t a = 0; a < copies; ++a) {
     const index_t sa = out.slot_of_copy[std::size_t(a)];
     out.copy_of_slot[std::size_t(sa)] = a;
@@ -297,6 +299,7 @@ parts<Dim, T> build(const image_view<const T, Dim>& field, int factor, stiffness
         ++cw.extra_count;
       }
     }
+    out.walk_bits[std::size_t(sa)] = cw.mask | (sa >= cells || cw.extra_count > 0 ? search::copy_walk::row_bit : 0u);
   }
   return out;
 }

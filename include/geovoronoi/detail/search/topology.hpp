@@ -57,6 +57,9 @@ struct copy_walk {
   index_t extra_begin = 0;     ///< its first entry in the extra rows
   std::uint32_t mask = 0;      ///< bit k: linked to the only copy of neighbour cell k
   std::uint32_t extra_count = 0;  ///< its entries in the extra rows
+  /// In a slot's walk bits (its mask, the bit above the stencil's): the walk must read the slot's
+  /// copy_walk (a cell's second or later copy, or a copy with extra rows).
+  static constexpr std::uint32_t row_bit = std::uint32_t(1) << 31;
 };
 
 /// The order of node @p u for the parent rule (lowest wins): its index, or on an explicit graph the
@@ -82,11 +85,43 @@ struct link_walker {
   const copy_walk* info = nullptr;
   const index_t* extra_node = nullptr;
   const std::uint8_t* extra_dir = nullptr;
+  const std::uint32_t* walk_bits = nullptr;
+  index_t cells = 0;  ///< slots below are their cell's first copy
 
   link_walker() = default;
   template <class P>
   explicit link_walker(const P& p)
-      : info(p.walk), extra_node(p.walk_extra_node), extra_dir(p.walk_extra_dir) {}
+      : info(p.walk),
+        extra_node(p.walk_extra_node),
+        extra_dir(p.walk_extra_dir),
+        walk_bits(p.walk_bits),
+        cells(p.cells) {}
+
+  /// The walk bits of slot @p v: its mask, and copy_walk::row_bit when walking it needs its row. A
+  /// search that keeps them beside its keys (the seq dense solve's walk_node) walks a slot without
+  /// the row with for_each_neighbour(p, v, bits, f), reading nothing else.
+  std::uint32_t bits(index_t v) const noexcept { return walk_bits[v]; }
+
+  /// for_each_neighbour(p, v, f) for slot @p v of walk bits @p bits (the same edges; a slot without
+  /// row_bit is its cell's only copy, so its neighbours are cell + delta[k], k in the mask, and a
+  /// slot linked to all of them takes the grid walk's interior loop).
+  template <class P, class F>
+  void for_each_neighbour(const P& p, index_t v, std::uint32_t bits, F&& f) const {
+    constexpr std::uint32_t full = P::neighbours == 32 ? ~std::uint32_t(0) : (std::uint32_t(1) << P::neighbours) - 1;
+    if (bits == full) {
+      for (int k = 0; k < P::neighbours; ++k) f(k, v + p.edges.delta[k]);
+      return;
+    }
+    if (bits & copy_walk::row_bit) {
+      for_each_neighbour(p, v, f);
+      return;
+    }
+    while (bits) {
+      const int k = __builtin_ctz(bits);
+      bits &= bits - 1;
+      f(k, v + p.edges.delta[k]);
+    }
+  }
 
   /// Calls f(k, u) for each edge v -> u of stencil direction k.
   template <class P, class F>
@@ -107,6 +142,13 @@ struct link_walker {
   /// Prefetches what walking @p v reads first (the search calls it for the next node it settles).
   /// Prefetching the neighbours' keys too, as the grid walk does, measured slower here.
   void prefetch(index_t v) const noexcept { __builtin_prefetch(info + v, 0, 1); }
+  /// For a search that keeps the walk bits beside its keys (State::walk_bits): prefetches the keys
+  /// of the stencil neighbours of slot @p v when it is a cell's first copy (they are its neighbours'
+  /// slots whenever those cells have one copy), as the grid walk does; nothing for the other slots.
+  template <class P, class State>
+  void prefetch_keys(const P& p, const State& st, index_t v) const noexcept {
+    if (v < cells) st.prefetch(v, p.edges);
+  }
 };
 
 }  // namespace geovoronoi::detail::search

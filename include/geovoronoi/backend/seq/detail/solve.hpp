@@ -12,6 +12,7 @@
 #include <geovoronoi/result.hpp>
 
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 namespace geovoronoi::detail::seq {
@@ -26,14 +27,19 @@ void solve_into(const P& p, const std::vector<source<typename P::value_type>>& s
   using T = typename P::value_type;
   using kt = search::key_traits<T>;
   const index_t n = search::node_count(p);
-  big_array<search::node<T>> work(static_cast<std::size_t>(n));
+  // an explicit graph's walk bits go beside each node's key (search::walk_node)
+  constexpr bool bits = !search::implicit_grid_v<P>;
+  using node_t = std::conditional_t<bits, search::walk_node<T>, search::node<T>>;
+  big_array<node_t> work(static_cast<std::size_t>(n));
+  [[maybe_unused]] const search::walker_t<P> walk(p);
   for (index_t v = 0; v < n; ++v) {
     work[v].set_key(kt::unreached);
     work[v].field = p.field[v];
+    if constexpr (bits) work[v].bits = walk.bits(v);
   }
   search::solve_monitor mon{&ctl, ctl.reporting() ? double(search::count_inside(p)) : 1.0};
   ctl.report(0.0);
-  search::dense_keys<T> st{work.data()};
+  search::dense_keys<T, node_t> st{work.data()};
   search::radix_heap<T> heap;
   search::run_from_sources(p, st, heap, sources, radius, mon);
   for (index_t v = 0; v < n; ++v) {
