@@ -205,6 +205,22 @@ struct branching_problem {
   const branching_grid<Dim, T, N>& grid_of() const noexcept { return *owner; }
   /// Slot @p s named for messages (by its copy).
   std::string node_text(index_t s) const { return owner->copy_text(copy_of_slot[s]); }
+
+  /// This problem with the arrays its walk and relaxation read (field, walk, walk_bits, the extra rows)
+  /// replaced by copy(pointer, count), which returns a pointer to a copy of those count elements: how
+  /// a backend moves the graph to device memory (the Thrust backend on the CUDA system). The members
+  /// only the host reads (copy_of_slot, slot_of_copy, owner) stay as they are.
+  template <class Copy>
+  branching_problem with_walk_arrays(Copy&& copy) const {
+    const auto& w = owner->walk_parts();
+    branching_problem q = *this;
+    q.field = copy(field, w.slot_stiffness.size());
+    q.walk = copy(walk, w.walk.size());
+    q.walk_bits = copy(walk_bits, w.walk_bits.size());
+    q.walk_extra_node = copy(walk_extra_node, w.walk_extra_node.size());
+    q.walk_extra_dir = copy(walk_extra_dir, w.walk_extra_dir.size());
+    return q;
+  }
 };
 
 /**

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <limits>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -216,14 +217,17 @@ void check_overflow(const engine_counts& c, typename P::value_type radius, Scan&
 /// Dense solve over the nodes of @p p (a grid's voxels or an explicit graph's nodes) into the host
 /// arrays @p distance and @p label (one entry per node, every entry written), labels repaired (see
 /// repair.hpp).
-template <class Exec, class P>
-void solve_into(const Exec& exec, const P& p, const std::vector<source<typename P::value_type>>& sources,
-                typename P::value_type radius, index_t target, engine_counts& counts,
-                const geovoronoi::detail::solve_control& ctl, typename P::value_type* distance, label_t* label) {
+/// The same with the engine running on @p pe, the problem as the system reads it (on the CUDA system,
+/// an explicit graph whose arrays were copied to the device); the label repair and the overflow scan
+/// read @p p (host memory). solve_into(exec, p, ...) is solve_on(exec, p, p, ...).
+template <class Exec, class PE, class P>
+void solve_on(const Exec& exec, const PE& pe, const P& p, const std::vector<source<typename P::value_type>>& sources,
+              typename P::value_type radius, index_t target, engine_counts& counts,
+              const geovoronoi::detail::solve_control& ctl, typename P::value_type* distance, label_t* label) {
   using T = typename P::value_type;
   const index_t n = search::node_count(p);
   dense_state<Exec, T> st;
-  counts = run_below(exec, p, sources, radius, target, st, ctl);
+  counts = run_below(exec, pe, sources, radius, target, st, ctl);
   const T inf = std::numeric_limits<T>::infinity();
   std::vector<index_t> suspects;
   if constexpr (is_cuda_policy_v<Exec>) {
@@ -252,6 +256,13 @@ void solve_into(const Exec& exec, const P& p, const std::vector<source<typename 
   ctl.report(1.0);
 }
 
+template <class Exec, class P>
+void solve_into(const Exec& exec, const P& p, const std::vector<source<typename P::value_type>>& sources,
+                typename P::value_type radius, index_t target, engine_counts& counts,
+                const geovoronoi::detail::solve_control& ctl, typename P::value_type* distance, label_t* label) {
+  solve_on(exec, p, p, sources, radius, target, counts, ctl, distance, label);
+}
+
 /// Dense solve: distance and label images, labels repaired (see repair.hpp).
 template <class Exec, class P>
 diagram<typename P::value_type, P::dim> solve(const Exec& exec, const P& p,
@@ -266,7 +277,8 @@ diagram<typename P::value_type, P::dim> solve(const Exec& exec, const P& p,
   return d;
 }
 
-/// The same over the nodes of an explicit graph (a branching grid's copies).
+/// The same over the nodes of an explicit graph (a branching grid's copies). On the CUDA system the
+/// engine walks device copies of the graph's arrays (P::with_walk_arrays); the rest runs on the host.
 template <class Exec, class P>
 node_diagram<typename P::value_type> solve_nodes(const Exec& exec, const P& p,
                                                  const std::vector<source<typename P::value_type>>& sources,
@@ -277,7 +289,21 @@ node_diagram<typename P::value_type> solve_nodes(const Exec& exec, const P& p,
   const auto n = static_cast<std::size_t>(search::node_count(p));
   d.distance.assign(n, T(0));
   d.label.assign(n, no_label);
-  solve_into(exec, p, sources, radius, target, counts, ctl, d.distance.data(), d.label.data());
+  if constexpr (is_cuda_policy_v<Exec>) {
+#ifdef __CUDACC__
+    // the graph's arrays are host memory: the engine reads device copies (P::with_walk_arrays)
+    std::vector<std::shared_ptr<void>> keep;
+    const P pd = p.with_walk_arrays([&](const auto* data, std::size_t count) {
+      using U = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+      auto v = std::make_shared<vec<Exec, U>>(data, data + count);
+      keep.push_back(v);
+      return static_cast<const U*>(raw(*v));
+    });
+    solve_on(exec, pd, p, sources, radius, target, counts, ctl, d.distance.data(), d.label.data());
+#endif
+  } else {
+    solve_into(exec, p, sources, radius, target, counts, ctl, d.distance.data(), d.label.data());
+  }
   return d;
 }
 
