@@ -139,8 +139,9 @@ struct link_walker {
     }
     for (index_t i = w.extra_begin, e = w.extra_begin + w.extra_count; i < e; ++i) f(int(extra_dir[i]), extra_node[i]);
   }
-  /// Prefetches what walking @p v reads first (the search calls it for the next node it settles).
-  /// Prefetching the neighbours' keys too, as the grid walk does, measured slower here.
+  /// Prefetches what walking @p v reads first (the search calls it for the next node it settles),
+  /// for a search without walk bits beside its keys, which learns the neighbours only from the row
+  /// (prefetching the neighbours' keys after it measured slower).
   void prefetch(index_t v) const noexcept { __builtin_prefetch(info + v, 0, 1); }
   /// For a search that keeps the walk bits beside its keys (State::walk_bits): prefetches the keys
   /// of the stencil neighbours of slot @p v when it is a cell's first copy (they are its neighbours'
