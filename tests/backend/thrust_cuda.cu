@@ -1,4 +1,5 @@
-// The shared backend suite on the Thrust backend, CUDA system (compiled by nvcc). Without a device
+// The shared backend suite on the Thrust backend, CUDA system (compiled by nvcc), and branching grids
+// on it (branching_thrust_cuda.hpp). Without a device
 // every case reports itself skipped and the executable exits with 77 (ctest: skipped, never passed).
 // Nothing touches the CUDA runtime before doctest runs a case. This file has its own main().
 #define DOCTEST_CONFIG_IMPLEMENT
@@ -47,6 +48,7 @@ gv::diagram<T, Dim> backend_solve(const policy&, const gv::problem<T, Dim, gvtes
 #define GEOVORONOI_TEST_SKIP_IF_NO_DEVICE() ::gvcuda::no_device()
 #include "backend/suite.hpp"
 #include "backend/thrust_extra.hpp"
+#include "backend/branching_thrust_cuda.hpp"
 
 int main(int argc, char** argv) {
   doctest::Context ctx(argc, argv);

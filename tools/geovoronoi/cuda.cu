@@ -37,10 +37,12 @@ bool register_cuda() noexcept {
   return register_problem_maker<T, 3>(backend_id::cuda, Cuts, &make_typed_problem_on<gv::cuda::par_t, T, 3, Cuts, true>);
 }
 
-// the lean build (GEOVORONOI_TOOL_LEAN, what scripts/demo.sh builds) computes in float only
+// the lean build (GEOVORONOI_TOOL_LEAN, what scripts/demo.sh builds) computes in float only; so does
+// a build in which no GPU will run this unit (GEOVORONOI_TEST_CUDA_REDUCED_MATRIX: it only proves
+// that the code compiles, and the double problems are the float ones' templates)
 [[maybe_unused]] const bool registered = register_device_probe(backend_id::cuda, &cuda_unavailable_reason) &&
                                          register_cuda<float, false>() && register_cuda<float, true>()
-#if !defined(GEOVORONOI_CLI_LEAN)
+#if !defined(GEOVORONOI_CLI_LEAN) && !defined(GEOVORONOI_CLI_CUDA_FLOAT_ONLY)
                                          && register_cuda<double, false>() && register_cuda<double, true>()
 #endif
     ;

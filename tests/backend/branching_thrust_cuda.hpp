@@ -1,14 +1,11 @@
-// Branching grids on the Thrust backend, CUDA system (compiled by nvcc): voronoi() on the device
-// equals the seq backend bit for bit (distances, labels, parents) on random images and the fingers
-// phantom, several factors and connectivities. Without a device every case reports itself skipped
-// and the executable exits with 77 (ctest: skipped). This file has its own main().
-#define DOCTEST_CONFIG_IMPLEMENT
-#include <doctest/doctest.h>
+// Branching grids on the Thrust backend, CUDA system: voronoi() on the device equals the seq backend
+// bit for bit (distances, labels, parents) on random images and the fingers phantom, several factors
+// and connectivities. Included by thrust_cuda.cu (one nvcc unit), after its GEOVORONOI_TEST_* macros.
+#pragma once
 
 #include <geovoronoi.hpp>
 #include <geovoronoi/backend/thrust.hpp>
 
-#include <cuda_runtime.h>
 #include <thrust/system/cuda/execution_policy.h>
 
 #include <algorithm>
@@ -17,27 +14,16 @@
 #include <random>
 #include <vector>
 
-namespace {
+namespace gvbranching {
 namespace gv = geovoronoi;
 
-std::uint32_t bits(float x) {
+inline std::uint32_t bits(float x) {
   std::uint32_t b;
   std::memcpy(&b, &x, sizeof b);
   return b;
 }
 
-int skipped = 0;  // cases that found no device
-int ran = 0;      // cases that found one
-
-bool no_device() {
-  int n = 0;
-  const bool none = cudaGetDeviceCount(&n) != cudaSuccess || n == 0;
-  ++(none ? skipped : ran);
-  if (none) MESSAGE("no device: skipped");
-  return none;
-}
-
-gv::image<float, 3> random_image(std::mt19937_64& rng, gv::coord<3> n, double empty) {
+inline gv::image<float, 3> random_image(std::mt19937_64& rng, gv::coord<3> n, double empty) {
   gv::image<float, 3> f{gv::grid<3>(n)};
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (gv::index_t v = 0; v < f.size(); ++v) f[v] = u(rng) < empty ? 0.0f : float(0.5 + 4.0 * u(rng));
@@ -74,31 +60,26 @@ void check_equal_to_seq(const gv::image<float, 3>& f, int factor, Metric metric,
   CHECK(got.seeds == want.seeds);
 }
 
-}  // namespace
+}  // namespace gvbranching
 
 TEST_CASE("branching voronoi on thrust_cuda equals seq: random images") {
-  if (no_device()) return;
+  if (GEOVORONOI_TEST_SKIP_IF_NO_DEVICE()) return;
   std::mt19937_64 rng(5);
+  namespace gv = geovoronoi;
   for (int trial = 0; trial < 3; ++trial) {
-    const auto f = random_image(rng, {20, 14, 11}, trial == 0 ? 0.55 : 0.3);
+    const auto f = gvbranching::random_image(rng, {20, 14, 11}, trial == 0 ? 0.55 : 0.3);
     for (int factor : {1, 2, 3}) {
-      check_equal_to_seq<6>(f, factor, gv::min_stiffness{}, 5, 0);
-      check_equal_to_seq<26>(f, factor, gv::min_stiffness{}, 5, 3);
+      gvbranching::check_equal_to_seq<6>(f, factor, gv::min_stiffness{}, 5, 0);
+      gvbranching::check_equal_to_seq<26>(f, factor, gv::min_stiffness{}, 5, 3);
     }
-    check_equal_to_seq<26>(f, 2, gv::mean_stiffness{}, 7, 0);
+    gvbranching::check_equal_to_seq<26>(f, 2, gv::mean_stiffness{}, 7, 0);
   }
 }
 
 TEST_CASE("branching voronoi on thrust_cuda equals seq: fingers") {
-  if (no_device()) return;
+  if (GEOVORONOI_TEST_SKIP_IF_NO_DEVICE()) return;
+  namespace gv = geovoronoi;
   const auto f = gv::phantom::fingers(gv::grid<3>({64, 48, 16}), 6, 1);
-  check_equal_to_seq<26>(f, 4, gv::min_stiffness{}, 10, 0);
-  check_equal_to_seq<18>(f, 2, gv::min_stiffness{}, 10, 64);
-}
-
-int main(int argc, char** argv) {
-  doctest::Context ctx(argc, argv);
-  const int rc = ctx.run();
-  if (ctx.shouldExit() || rc != 0) return rc;
-  return skipped > 0 && ran == 0 ? 77 : 0;  // 77: ctest reports the test skipped
+  gvbranching::check_equal_to_seq<26>(f, 4, gv::min_stiffness{}, 10, 0);
+  gvbranching::check_equal_to_seq<18>(f, 2, gv::min_stiffness{}, 10, 64);
 }
