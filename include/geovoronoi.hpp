@@ -3,6 +3,7 @@
 /// @brief Everything of the core library and its sequential backend.
 
 #include <geovoronoi/backend/seq.hpp>
+#include <geovoronoi/branching_grid.hpp>
 #include <geovoronoi/config.hpp>
 #include <geovoronoi/connectivity.hpp>
 #include <geovoronoi/error.hpp>

@@ -3,8 +3,9 @@
 /// @brief Procedural stiffness volumes used by the benchmarks, the tests and the demo: constant,
 ///        gradient (1 -> 10 along x), a two-material beam, a T-bone-steak phantom (meat, fat, bone,
 ///        background) and a noisy MRI-like pelvis (mri_like: tissues over three decades of values,
-///        masked background); and closed triangle meshes (box, ellipsoid, torus, the "limb" parts)
-///        for voxelize().
+///        masked background); closed triangle meshes (box, ellipsoid, torus, the "limb" parts)
+///        for voxelize(); and a hand with fingers closer than a coarse cell (fingers: the case of
+///        branching grids).
 
 #include <geovoronoi/grid.hpp>
 #include <geovoronoi/image.hpp>
@@ -16,6 +17,7 @@
 #include <cstdint>
 #include <map>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -186,6 +188,45 @@ inline image<float, 3> mri_like(const grid<3>& g, std::uint64_t salt = 17, doubl
         const double bias = 1.0 + 0.2 * std::sin(1.7 * u + 0.9) * std::cos(1.3 * v - 0.4 * w);
         const double value = double(level[t]) * bias * std::max(0.2, 1.0 + noise * gauss);
         f[idx] = float(std::max(value, 0.5));
+      }
+  return f;
+}
+
+/**
+ * @brief A hand: a palm with @p count parallel fingers separated by gaps of @p gap voxels, a 3D slab
+ *        of uniform stiffness @p stiffness on empty background (0).
+ *
+ * The palm fills the rows y < max(1, ny / 4) over the whole x range and every z. Finger i fills
+ * x in [i (w + gap), i (w + gap) + w) for y >= the palm's rows and every z, with
+ * w = (nx - (count - 1) gap) / count (rounded down); columns right of the last finger are empty. The
+ * gaps are empty from the palm to the top row, so the only path between two fingertips runs down
+ * through the palm. With gaps thinner than a coarse cell (1 voxel against a factor of 4), a regular
+ * coarse grid glues neighbouring fingers; a branching grid keeps them apart.
+ * @throws std::invalid_argument if count < 1, gap < 1 or the fingers would be narrower than 1 voxel.
+ *
+ * @code
+ * auto hand = geovoronoi::phantom::fingers(geovoronoi::grid<3>({55, 48, 8}));  // 4 fingers of 13 voxels
+ * @endcode
+ */
+inline image<float, 3> fingers(const grid<3>& g, int count = 4, index_t gap = 1, float stiffness = 1.0f) {
+  if (count < 1) throw std::invalid_argument("phantom::fingers: count must be >= 1");
+  if (gap < 1) throw std::invalid_argument("phantom::fingers: gap must be >= 1 voxel");
+  const index_t nx = g.extent(0), ny = g.extent(1), nz = g.extent(2);
+  const index_t w = (nx - (count - 1) * gap) / count;
+  if (w < 1)
+    throw std::invalid_argument("phantom::fingers: " + std::to_string(count) + " fingers with gaps of " +
+                                std::to_string(gap) + " voxels do not fit in " + std::to_string(nx) + " columns");
+  const index_t palm = std::max<index_t>(1, ny / 4);
+  image<float, 3> f(g, 0.0f);
+  for (index_t z = 0; z < nz; ++z)
+    for (index_t y = 0; y < ny; ++y)
+      for (index_t x = 0; x < nx; ++x) {
+        bool in = y < palm;
+        if (!in) {
+          const index_t i = x / (w + gap), r = x % (w + gap);
+          in = i < count && r < w;
+        }
+        if (in) f({x, y, z}) = stiffness;
       }
   return f;
 }

@@ -91,6 +91,25 @@ struct diagram {
 };
 
 /**
+ * @brief A geodesic Voronoi diagram over the nodes of an explicit graph (a branching grid's copies,
+ *        branching_grid.hpp): one entry per node, the same rules as diagram.
+ *
+ * distance is +inf and label -1 where a node is unreachable; parent (when requested, else empty)
+ * holds the lowest-index neighbour node that realises the node's key, -1 for sources and unreached
+ * nodes; seeds holds each seed's node, in the caller's order.
+ */
+template <class T>
+struct node_diagram {
+  std::vector<T> distance;
+  std::vector<label_t> label;
+  std::vector<index_t> parent;
+  std::vector<index_t> seeds;
+
+  /// Number of nodes.
+  std::size_t size() const noexcept { return distance.size(); }
+};
+
+/**
  * @brief The result of a bounded (sparse) solve: the voxels whose distance is below the radius, with
  *        their distance and label, sorted by increasing voxel index.
  */

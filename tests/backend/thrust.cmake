@@ -29,6 +29,13 @@ if(TARGET geovoronoi::thrust_cuda)
   add_test(NAME test_backend_thrust_cuda COMMAND test_backend_thrust_cuda)
   set_tests_properties(test_backend_thrust_cuda PROPERTIES SKIP_RETURN_CODE 77)
   set_target_properties(test_backend_thrust_cuda PROPERTIES CUDA_ARCHITECTURES "${GEOVORONOI_CUDA_ARCHITECTURES}")
+  # branching grids on the CUDA system against seq (a small executable of its own, same conventions)
+  add_executable(test_branching_thrust_cuda backend/branching_thrust_cuda.cu)
+  target_link_libraries(test_branching_thrust_cuda PRIVATE doctest::doctest geovoronoi::thrust_cuda geovoronoi_dev_options
+                        CUDA::cudart)
+  add_test(NAME test_branching_thrust_cuda COMMAND test_branching_thrust_cuda)
+  set_tests_properties(test_branching_thrust_cuda PROPERTIES SKIP_RETURN_CODE 77)
+  set_target_properties(test_branching_thrust_cuda PROPERTIES CUDA_ARCHITECTURES "${GEOVORONOI_CUDA_ARCHITECTURES}")
 endif()
 if(TARGET geovoronoi::thrust AND GEOVORONOI_HEADER_CHECKS)
   # The public header compiles on its own (twice: include guard).

@@ -93,6 +93,16 @@ diagram<typename P::value_type, P::dim> backend_solve(seq_t, const P& p,
   return detail::seq::solve(p, sources, radius, ctl);
 }
 
+/// Dense multi-source solve over the nodes of an explicit graph (backend hook; call
+/// geovoronoi::voronoi with a branching problem): the same engine as backend_solve.
+template <class P>
+node_diagram<typename P::value_type> backend_solve_nodes(seq_t, const P& p,
+                                                         const std::vector<source<typename P::value_type>>& sources,
+                                                         typename P::value_type radius,
+                                                         const detail::solve_control& ctl = {}) {
+  return detail::seq::solve_nodes(p, sources, radius, ctl);
+}
+
 /// Bounded (sparse) multi-source solve (backend hook; call geovoronoi::bounded_solve): scratch
 /// proportional to the voxels reached, plus the policy's workspace page table.
 template <class P>

@@ -5,6 +5,8 @@
 //
 //   backend_solve(policy, problem, sources, radius [, solve_control])        dense multi-source solve
 //   backend_bounded(policy, problem, sources, radius [, solve_control])      voxels below a radius
+//   backend_solve_nodes(policy, problem, sources, radius, solve_control)      dense solve over an explicit
+//                                                                             graph's nodes (branching grids)
 //   backend_insert_queries(policy, problem, diagram, queries)                 new cells of query voxels
 //   backend_with_threads(policy, threads, f)                                  f() on that many host threads
 //   backend_host_parallel_for(policy, n, f)                                   f(i), i in [0, n), maybe concurrent
@@ -41,6 +43,16 @@ struct has_solve_control<
                                        std::declval<const std::vector<source<typename P::value_type>>&>(),
                                        std::declval<typename P::value_type>(), std::declval<const solve_control&>()))>>
     : std::true_type {};
+
+template <class Policy, class P, class = void>
+struct has_solve_nodes : std::false_type {};
+template <class Policy, class P>
+struct has_solve_nodes<
+    Policy, P,
+    std::void_t<decltype(backend_solve_nodes(std::declval<const Policy&>(), std::declval<const P&>(),
+                                             std::declval<const std::vector<source<typename P::value_type>>&>(),
+                                             std::declval<typename P::value_type>(),
+                                             std::declval<const solve_control&>()))>> : std::true_type {};
 
 template <class Policy, class P, class = void>
 struct has_bounded : std::false_type {};

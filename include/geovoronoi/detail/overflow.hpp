@@ -14,6 +14,7 @@
 
 #include <geovoronoi/detail/search/relax.hpp>
 #include <geovoronoi/detail/search/stencil_walk.hpp>
+#include <geovoronoi/detail/search/topology.hpp>
 #include <geovoronoi/error.hpp>
 #include <geovoronoi/metric.hpp>
 
@@ -47,22 +48,37 @@ std::string coords_text(const grid<Dim>& g, index_t v) {
   return s + ")";
 }
 
-/// The error for an overflow at @p s on grid @p g.
-template <class T, int Dim>
-overflow_error overflow_error_at(const grid<Dim>& g, const overflow_site<T>& s) {
+/// The error for an overflow at @p s, its nodes named by @p text(v), the overflowing one after @p at.
+template <class T, class Text>
+overflow_error overflow_error_named(Text&& text, const overflow_site<T>& s, const char* at) {
   const char* type = std::is_same_v<T, float> ? "float" : "double";
   const bool weight = !(s.weight <= std::numeric_limits<T>::max());
-  std::string why = weight ? "the edge weight from its neighbour " + coords_text(g, s.from) + " is +inf in " + type
-                           : "its neighbour " + coords_text(g, s.from) + " is at distance " +
+  std::string why = weight ? "the edge weight from its neighbour " + text(s.from) + " is +inf in " + type
+                           : "its neighbour " + text(s.from) + " is at distance " +
                                  short_number(double(s.distance)) + " and the edge weight " +
                                  short_number(double(s.weight)) + " takes the sum past the largest " + type + " (" +
                                  short_number(double(std::numeric_limits<T>::max())) + ")";
-  return overflow_error("geovoronoi: the distance overflows " + std::string(type) + " at voxel " +
-                        coords_text(g, s.voxel) + ": " + why +
-                        ", so a voxel that a path reaches would come out unreachable; " +
+  return overflow_error("geovoronoi: the distance overflows " + std::string(type) + " at " + at + text(s.voxel) + ": " +
+                        why + ", so a voxel that a path reaches would come out unreachable; " +
                         (std::is_same_v<T, float> ? "compute in double precision (a double field), or rescale the "
                                                     "field or the spacing"
                                                   : "rescale the field or the spacing"));
+}
+
+/// The error for an overflow at @p s on grid @p g.
+template <class T, int Dim>
+overflow_error overflow_error_at(const grid<Dim>& g, const overflow_site<T>& s) {
+  return overflow_error_named([&](index_t v) { return coords_text(g, v); }, s, "voxel ");
+}
+
+/// The error for an overflow at @p s on problem @p p: voxels named by their coordinates, the nodes
+/// of an explicit graph by the problem's node_text.
+template <class P, class T>
+overflow_error overflow_error_on(const P& p, const overflow_site<T>& s) {
+  if constexpr (search::implicit_grid_v<P>)
+    return overflow_error_at(p.geometry, s);
+  else
+    return overflow_error_named([&](index_t v) { return p.node_text(v); }, s, "");
 }
 
 /**
@@ -73,7 +89,7 @@ overflow_error overflow_error_at(const grid<Dim>& g, const overflow_site<T>& s) 
 template <class P, class EachReached, class Reached>
 void throw_if_overflowed(const P& p, EachReached&& each_reached, Reached&& reached) {
   using T = typename P::value_type;
-  const search::stencil_walker<P::dim> walk(p);
+  const search::walker_t<P> walk(p);
   overflow_site<T> best;
   each_reached([&](index_t v, T dv) {
     const T fv = p.field[v];
@@ -87,14 +103,14 @@ void throw_if_overflowed(const P& p, EachReached&& each_reached, Reached&& reach
       best = {u, v, dv, w};
     });
   });
-  if (best.voxel != no_index) throw overflow_error_at(p.geometry, best);
+  if (best.voxel != no_index) throw overflow_error_on(p, best);
 }
 
 /// The scan on a dense result: @p distance holds +inf where unreached.
 template <class P>
 void throw_if_overflowed_dense(const P& p, const typename P::value_type* distance) {
   using T = typename P::value_type;
-  const index_t n = p.geometry.size();
+  const index_t n = search::node_count(p);
   const T inf = std::numeric_limits<T>::infinity();
   throw_if_overflowed(
       p,

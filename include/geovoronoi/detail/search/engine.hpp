@@ -1,6 +1,6 @@
 #pragma once
-// The shared Dijkstra engine: label-carrying Dijkstra on the implicit grid graph with a radix heap
-// over packed (distance, label) keys. One loop serves the dense solve, the bounded solve and
+// The shared Dijkstra engine: label-carrying Dijkstra on the implicit grid graph (or on an explicit
+// graph, a branching grid's copies: topology.hpp) with a radix heap over packed (distance, label) keys. One loop serves the dense solve, the bounded solve and
 // insert-query, for the seq backend and for the Thrust backend's host insert-query; they differ only
 // in where keys are stored (a dense array, or scratch bounded by what is visited: the pages of
 // sparse.hpp) and in which relaxations they accept.
@@ -9,6 +9,7 @@
 #include <geovoronoi/detail/search/radix_heap.hpp>
 #include <geovoronoi/detail/search/relax.hpp>
 #include <geovoronoi/detail/search/stencil_walk.hpp>
+#include <geovoronoi/detail/search/topology.hpp>
 #include <geovoronoi/metric.hpp>
 #include <geovoronoi/result.hpp>
 
@@ -38,20 +39,36 @@ struct node<float> {
   void set_key(std::uint64_t k) noexcept { hi = std::uint32_t(k >> 32), lo = std::uint32_t(k); }
 };
 
-/// Keys and field values in a dense per-voxel array.
+/// A node of an explicit graph whose walker keeps per-node walk bits (topology.hpp's link_walker):
+/// the bits beside the key and the field, on the cache line the search reads when it settles the node.
 template <class T>
+struct walk_node : node<T> {
+  std::uint32_t bits;
+};
+
+/// Keys and field values (and walk bits, with walk_node) in a dense per-voxel array.
+template <class T, class Node = node<T>>
 struct dense_keys {
   using kt = key_traits<T>;
-  node<T>* n;
-  node<T>& at(index_t v) noexcept { return n[v]; }
+  Node* n;
+  Node& at(index_t v) noexcept { return n[v]; }
   typename kt::key_type get(index_t v) const noexcept { return n[v].get_key(); }
   void set(index_t v, typename kt::key_type key) noexcept { n[v].set_key(key); }
   T field(index_t v) const noexcept { return n[v].field; }
+  template <class M = Node>
+  auto walk_bits(index_t v) const noexcept -> decltype(std::declval<const M&>().bits) {
+    return n[v].bits;
+  }
   template <class Stencil>
   void prefetch(index_t v, const Stencil& s) const noexcept {
     for (int k = 0; k < Stencil::size; ++k) __builtin_prefetch(n + v + s.delta[k], 1, 1);
   }
 };
+
+template <class S, class = void>
+struct has_walk_bits : std::false_type {};
+template <class S>
+struct has_walk_bits<S, std::void_t<decltype(std::declval<const S&>().walk_bits(index_t()))>> : std::true_type {};
 
 template <class H, class = void>
 struct has_peek : std::false_type {};
@@ -108,7 +125,7 @@ template <class P, class State, class Heap, class Accept, class Monitor = no_mon
 std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept, Monitor&& mon = Monitor{}) {
   using T = typename P::value_type;
   using kt = key_traits<T>;
-  const stencil_walker<P::dim> walk(p);
+  const walker_t<P> walk(p);
   std::size_t settled = 0;
   while (!heap.empty()) {
     const auto it = heap.pop();
@@ -117,12 +134,19 @@ std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept, Monitor&& mo
     if constexpr (std::decay_t<Monitor>::watching)
       if ((settled & tick_mask) == 0) mon.tick(settled);
     const index_t v = it.voxel;
-    if constexpr (has_peek<Heap>::value)
-      if (const auto* nx = heap.peek_ready()) st.prefetch(nx->voxel, p.edges);
+    if constexpr (has_peek<Heap>::value) {
+      if constexpr (implicit_grid_v<P>) {
+        if (const auto* nx = heap.peek_ready()) st.prefetch(nx->voxel, p.edges);
+      } else if constexpr (has_walk_bits<State>::value) {
+        if (const auto* nx = heap.peek_ready()) walk.prefetch_keys(p, st, nx->voxel);
+      } else {
+        if (const auto* nx = heap.peek_ready()) walk.prefetch(nx->voxel);
+      }
+    }
     const T dv = kt::distance(it.key);
     const label_t l = kt::label(it.key);
     const T fv = st.field(v);
-    walk.for_each_neighbour(p, v, [&](int k, index_t u) {
+    const auto relax_edge = [&](int k, index_t u) {
       auto& slot = st.at(u);
       // A neighbour whose key is already <= the popped key cannot improve (weights are >= 0): skip
       // it before paying for the metric. This covers every settled neighbour.
@@ -141,16 +165,21 @@ std::size_t run(const P& p, State& st, Heap& heap, Accept&& accept, Monitor&& mo
         set_slot_key(slot, nk);
         heap.push(nk, u);
       }
-    });
+    };
+    if constexpr (has_walk_bits<State>::value)
+      walk.for_each_neighbour(p, v, st.walk_bits(v), relax_edge);
+    else
+      walk.for_each_neighbour(p, v, relax_edge);
   }
   return settled;
 }
 
-/// Voxels of the domain (the denominator of the solves' progress).
+/// Voxels (nodes) of the domain (the denominator of the solves' progress).
 template <class P>
 index_t count_inside(const P& p) {
   index_t c = 0;
-  for (index_t v = 0; v < p.geometry.size(); ++v) c += detail::inside<typename P::metric_type>(p.field[v]) ? 1 : 0;
+  const index_t n = node_count(p);
+  for (index_t v = 0; v < n; ++v) c += detail::inside<typename P::metric_type>(p.field[v]) ? 1 : 0;
   return c > 0 ? c : 1;
 }
 

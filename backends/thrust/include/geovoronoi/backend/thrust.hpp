@@ -144,6 +144,20 @@ diagram<typename P::value_type, P::dim> backend_solve(const Pol& pol, const P& p
   });
 }
 
+/// Dense multi-source solve over the nodes of an explicit graph (backend hook; call geovoronoi::voronoi
+/// with a branching problem): the same engine and label repair as backend_solve. The graph's arrays
+/// are host memory; on the CUDA system the engine walks device copies of them (made per call, freed
+/// on return), the label repair runs on the host.
+template <class Pol, class P, detail::if_policy<Pol> = 0>
+node_diagram<typename P::value_type> backend_solve_nodes(const Pol& pol, const P& p,
+                                                         const std::vector<source<typename P::value_type>>& s,
+                                                         typename P::value_type radius,
+                                                         const geovoronoi::detail::solve_control& ctl) {
+  return detail::counted(pol, [&](const auto& exec, index_t target, detail::engine_counts& c) {
+    return detail::solve_nodes(exec, p, s, radius, target, c, ctl);
+  });
+}
+
 /// Bounded (sparse) solve (backend hook; call geovoronoi::bounded_solve or single_source).
 /// Scratch memory on this backend is proportional to the grid, not to the voxels reached.
 template <class Pol, class P, detail::if_policy<Pol> = 0>

@@ -17,6 +17,7 @@
 #include <geovoronoi/detail/search/key.hpp>
 #include <geovoronoi/detail/search/relax.hpp>
 #include <geovoronoi/detail/search/stencil_walk.hpp>
+#include <geovoronoi/detail/search/topology.hpp>
 #include <geovoronoi/error.hpp>
 #include <geovoronoi/metric.hpp>
 #include <geovoronoi/result.hpp>
@@ -101,7 +102,7 @@ struct expand_fn {
   static constexpr index_t top = index_t(Chunk) * N;
 
   P p;
-  search::stencil_walker<P::dim> walk;
+  search::walker_t<P> walk;
   index_t n;
   cell* keys;
   flag_t* flags;
@@ -124,18 +125,20 @@ struct expand_fn {
     for (index_t i = begin; i < end; ++i) {
       const index_t u = list[i];
 #ifndef __CUDA_ARCH__
-      if (i + 2 < count) {  // prefetch the neighbourhood of the voxel expanded two steps ahead
-        const index_t w = list[i + 2];
-        const index_t nx = walk.nx, nxy = walk.nxy;
-        for (int dz = P::dim == 3 ? -1 : 0; dz <= (P::dim == 3 ? 1 : 0); ++dz)
-          for (int dy = -1; dy <= 1; ++dy) {
-            const index_t c = w + dz * nxy + dy * nx;
-            if (c >= 1 && c + 1 < n) {
-              __builtin_prefetch(keys + c - 1, 1);
-              __builtin_prefetch(p.field + c - 1, 0);
-              __builtin_prefetch(flags + c - 1, 1);
+      if constexpr (search::implicit_grid_v<P>) {
+        if (i + 2 < count) {  // prefetch the neighbourhood of the voxel expanded two steps ahead
+          const index_t w = list[i + 2];
+          const index_t nx = walk.nx, nxy = walk.nxy;
+          for (int dz = P::dim == 3 ? -1 : 0; dz <= (P::dim == 3 ? 1 : 0); ++dz)
+            for (int dy = -1; dy <= 1; ++dy) {
+              const index_t c = w + dz * nxy + dy * nx;
+              if (c >= 1 && c + 1 < n) {
+                __builtin_prefetch(keys + c - 1, 1);
+                __builtin_prefetch(p.field + c - 1, 0);
+                __builtin_prefetch(flags + c - 1, 1);
+              }
             }
-          }
+        }
       }
 #endif
       // before the load: a later drop of u's key re-queues u
@@ -170,6 +173,13 @@ struct expand_fn {
           return;
         }
         publish_fence();
+        if constexpr (!search::implicit_grid_v<P>) {
+          // an explicit graph's node may have more than N edges: flush a full stage
+          if (a + b == top) {
+            flush_stage(stage, top, a, b, sizes, near_out, far_out);
+            a = b = 0;
+          }
+        }
         if (adm.near(nd, fv, p.metric)) {
           if (flag_transition(flags + v, from_not_near{}, queued_near)) stage[a++] = v;
         } else if (flag_transition(flags + v, from_idle{}, queued_far)) {
@@ -256,7 +266,7 @@ T window(T base, int k) noexcept {
 /// Smallest weight of an edge into v (+inf when no neighbour is inside the domain): how far a
 /// distance must rise above v's before a path through v's neighbours can undercut it.
 template <class P>
-typename P::value_type min_in_weight(const P& p, const search::stencil_walker<P::dim>& walk, index_t v) {
+typename P::value_type min_in_weight(const P& p, const search::walker_t<P>& walk, index_t v) {
   using T = typename P::value_type;
   T best = std::numeric_limits<T>::infinity();
   const T fv = p.field[v];
@@ -289,7 +299,7 @@ inline constexpr int step_hops = 4;
 inline constexpr int local_depth = 4;
 
 template <class P>
-bool sample_theta(const P& p, const search::stencil_walker<P::dim>& walk, const key_cell<typename P::value_type>* keys, const flag_t* flags,
+bool sample_theta(const P& p, const search::walker_t<P>& walk, const key_cell<typename P::value_type>* keys, const flag_t* flags,
                   const index_t* list, index_t size, index_t target, std::vector<typename P::value_type>& scratch,
                   std::vector<typename P::value_type>& weights, typename P::value_type& theta,
                   typename P::value_type& base) {
@@ -384,8 +394,9 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
   constexpr int chunk = device ? 1 : 32;
   constexpr int split_chunk = device ? 1 : 64;
   const index_t cap = device ? (index_t(1) << 18) : (index_t(1) << 14);
-  const search::stencil_walker<P::dim> walk(p);
-  const index_t n = p.geometry.size();
+  const search::walker_t<P> walk(p);
+  const index_t n = search::node_count(p);
+  const index_t degree = search::max_degree(p);  // N on a grid
   target = std::max<index_t>(target, 1);
 
   vec<Exec, index_t> near, next, far2, sizes(2);
@@ -436,14 +447,14 @@ engine_counts run(const Exec& exec, const P& p, key_cell<typename P::value_type>
     index_t next_size = 0;
     for (index_t s = 0; s < near_size; s += cap) {
       const index_t cnt = std::min(cap, near_size - s);
-      grow(next, std::min(n, next_size + cnt * N));
-      grow(far, far_size + cnt * N);
+      grow(next, std::min(n, next_size + cnt * degree));
+      grow(far, far_size + cnt * degree);
       set_sizes<Exec>(sizes, next_size, far_size);
       parallel_for(exec, (cnt + chunk - 1) / chunk,
                    expand_fn<P, Accept, chunk>{p, walk, n, keys, flags, raw(near) + s, cnt, raw(next), raw(far), raw(sizes),
                                                adm, accept, raw(error), raw(overflow),
                                                std::numeric_limits<T>::max()},
-                   cnt * N);
+                   cnt * degree);
       next_size = read<Exec>(raw(sizes));
       far_size = read<Exec>(raw(sizes) + 1);
       counts.expansions += static_cast<std::uint64_t>(cnt);

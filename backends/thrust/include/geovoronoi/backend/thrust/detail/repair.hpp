@@ -62,7 +62,7 @@ std::size_t repair_labels(const P& p, Store& st, const std::vector<source<typena
                           std::vector<index_t> set) {
   using T = typename P::value_type;
   if (set.empty()) return 0;
-  const search::stencil_walker<P::dim> walk(p);
+  const search::walker_t<P> walk(p);
 
   // sources by voxel, for the label a source gives its own voxel (if its distance is the final one)
   std::vector<std::pair<index_t, std::size_t>> by_voxel(sources.size());

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <limits>
+#include <memory>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -188,11 +189,11 @@ engine_counts run_below(const Exec& exec, const P& p, const std::vector<source<t
                         const geovoronoi::detail::solve_control& ctl) {
   using T = typename P::value_type;
   // the progress denominator: the domain's voxels where the field is host memory, else the grid's
-  double total = double(p.geometry.size());
+  double total = double(search::node_count(p));
   if constexpr (!is_cuda_policy_v<Exec>)
     if (ctl.reporting()) total = double(search::count_inside(p));
   ctl.report(0.0);
-  seed(exec, st, p.geometry.size(), sources, [radius](const source<T>& s) { return s.distance < radius; });
+  seed(exec, st, search::node_count(p), sources, [radius](const source<T>& s) { return s.distance < radius; });
   return run(exec, p, raw(st.keys), raw(st.flags), st.far, st.far_size, below_radius<T>{radius}, target, ctl, total);
 }
 
@@ -213,19 +214,20 @@ void check_overflow(const engine_counts& c, typename P::value_type radius, Scan&
   }
 }
 
-/// Dense solve: distance and label images, labels repaired (see repair.hpp).
-template <class Exec, class P>
-diagram<typename P::value_type, P::dim> solve(const Exec& exec, const P& p,
-                                              const std::vector<source<typename P::value_type>>& sources,
-                                              typename P::value_type radius, index_t target, engine_counts& counts,
-                                              const geovoronoi::detail::solve_control& ctl = {}) {
+/// Dense solve over the nodes of @p p (a grid's voxels or an explicit graph's nodes) into the host
+/// arrays @p distance and @p label (one entry per node, every entry written), labels repaired (see
+/// repair.hpp).
+/// The same with the engine running on @p pe, the problem as the system reads it (on the CUDA system,
+/// an explicit graph whose arrays were copied to the device); the label repair and the overflow scan
+/// read @p p (host memory). solve_into(exec, p, ...) is solve_on(exec, p, p, ...).
+template <class Exec, class PE, class P>
+void solve_on(const Exec& exec, const PE& pe, const P& p, const std::vector<source<typename P::value_type>>& sources,
+              typename P::value_type radius, index_t target, engine_counts& counts,
+              const geovoronoi::detail::solve_control& ctl, typename P::value_type* distance, label_t* label) {
   using T = typename P::value_type;
-  const index_t n = p.geometry.size();
+  const index_t n = search::node_count(p);
   dense_state<Exec, T> st;
-  counts = run_below(exec, p, sources, radius, target, st, ctl);
-  diagram<T, P::dim> d;
-  d.distance = image<T, P::dim>(p.geometry, T(0));
-  d.label = image<label_t, P::dim>(p.geometry, no_label);
+  counts = run_below(exec, pe, sources, radius, target, st, ctl);
   const T inf = std::numeric_limits<T>::infinity();
   std::vector<index_t> suspects;
   if constexpr (is_cuda_policy_v<Exec>) {
@@ -233,25 +235,75 @@ diagram<typename P::value_type, P::dim> solve(const Exec& exec, const P& p,
     vec<Exec, T> dist(static_cast<std::size_t>(n));
     vec<Exec, label_t> lab(static_cast<std::size_t>(n));
     parallel_for(exec, n, unpack_fn<T>{raw(st.keys), raw(dist), raw(lab), inf}, n);
-    ::thrust::copy(dist.begin(), dist.end(), d.distance.data());
-    ::thrust::copy(lab.begin(), lab.end(), d.label.data());
+    ::thrust::copy(dist.begin(), dist.end(), distance);
+    ::thrust::copy(lab.begin(), lab.end(), label);
     suspects = collect_suspects(exec, raw(st.flags), n);
-    for (index_t v = 0; v < n; ++v) counts.reached += d.label[v] != no_label;
+    for (index_t v = 0; v < n; ++v) counts.reached += label[v] != no_label;
 #endif
   } else {
     const index_t chunk = 16384;
     const index_t chunks = (n + chunk - 1) / chunk;
     std::vector<index_t> c(static_cast<std::size_t>(2 * chunks));
-    const unpack_fn<T> unpack{raw(st.keys), d.distance.data(), d.label.data(), inf};
+    const unpack_fn<T> unpack{raw(st.keys), distance, label, inf};
     parallel_for(exec, chunks, scan_chunk_fn<T>{unpack, raw(st.flags), n, chunk, c.data()}, n);
     for (index_t j = 0; j < chunks; ++j) counts.reached += static_cast<std::uint64_t>(c[2 * j]);
     suspects = gather_suspects(raw(st.flags), n, chunk, c.data() + 1, 2);
   }
   counts.suspects = suspects.size();
-  dense_labels<T> store{d.distance.data(), d.label.data(), n};
+  dense_labels<T> store{distance, label, n};
   counts.relabelled = repair_labels(p, store, sources, std::move(suspects));
-  check_overflow<Exec, P>(counts, radius, [&] { geovoronoi::detail::throw_if_overflowed_dense(p, d.distance.data()); });
+  check_overflow<Exec, P>(counts, radius, [&] { geovoronoi::detail::throw_if_overflowed_dense(p, distance); });
   ctl.report(1.0);
+}
+
+template <class Exec, class P>
+void solve_into(const Exec& exec, const P& p, const std::vector<source<typename P::value_type>>& sources,
+                typename P::value_type radius, index_t target, engine_counts& counts,
+                const geovoronoi::detail::solve_control& ctl, typename P::value_type* distance, label_t* label) {
+  solve_on(exec, p, p, sources, radius, target, counts, ctl, distance, label);
+}
+
+/// Dense solve: distance and label images, labels repaired (see repair.hpp).
+template <class Exec, class P>
+diagram<typename P::value_type, P::dim> solve(const Exec& exec, const P& p,
+                                              const std::vector<source<typename P::value_type>>& sources,
+                                              typename P::value_type radius, index_t target, engine_counts& counts,
+                                              const geovoronoi::detail::solve_control& ctl = {}) {
+  using T = typename P::value_type;
+  diagram<T, P::dim> d;
+  d.distance = image<T, P::dim>(p.geometry, T(0));
+  d.label = image<label_t, P::dim>(p.geometry, no_label);
+  solve_into(exec, p, sources, radius, target, counts, ctl, d.distance.data(), d.label.data());
+  return d;
+}
+
+/// The same over the nodes of an explicit graph (a branching grid's copies). On the CUDA system the
+/// engine walks device copies of the graph's arrays (P::with_walk_arrays); the rest runs on the host.
+template <class Exec, class P>
+node_diagram<typename P::value_type> solve_nodes(const Exec& exec, const P& p,
+                                                 const std::vector<source<typename P::value_type>>& sources,
+                                                 typename P::value_type radius, index_t target, engine_counts& counts,
+                                                 const geovoronoi::detail::solve_control& ctl = {}) {
+  using T = typename P::value_type;
+  node_diagram<T> d;
+  const auto n = static_cast<std::size_t>(search::node_count(p));
+  d.distance.assign(n, T(0));
+  d.label.assign(n, no_label);
+  if constexpr (is_cuda_policy_v<Exec>) {
+#ifdef __CUDACC__
+    // the graph's arrays are host memory: the engine reads device copies (P::with_walk_arrays)
+    std::vector<std::shared_ptr<void>> keep;
+    const P pd = p.with_walk_arrays([&](const auto* data, std::size_t count) {
+      using U = std::remove_cv_t<std::remove_pointer_t<decltype(data)>>;
+      auto v = std::make_shared<vec<Exec, U>>(data, data + count);
+      keep.push_back(v);
+      return static_cast<const U*>(raw(*v));
+    });
+    solve_on(exec, pd, p, sources, radius, target, counts, ctl, d.distance.data(), d.label.data());
+#endif
+  } else {
+    solve_into(exec, p, sources, radius, target, counts, ctl, d.distance.data(), d.label.data());
+  }
   return d;
 }
 

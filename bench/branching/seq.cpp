@@ -1,0 +1,10 @@
+/// @file bench/branching/seq.cpp
+/// @brief Branching grids on the sequential backend (`branching/seq/...`, see cases.hpp).
+
+#include "branching/cases.hpp"
+
+GEOVORONOI_BENCH_REGISTER(register_branching_seq) { geovoronoi::bench::branching::register_cases("seq", geovoronoi::seq); }
+
+#ifndef GEOVORONOI_BENCH_COMBINED
+GEOVORONOI_BENCH_MAIN()
+#endif
