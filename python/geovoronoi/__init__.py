@@ -28,6 +28,8 @@ import numpy as np
 from . import _geovoronoi as _ext
 
 __all__ = [
+    "BranchingDiagram",
+    "BranchingGrid",
     "Cut",
     "Diagram",
     "Voxelization",
@@ -39,7 +41,9 @@ __all__ = [
     "update_shape_functions",
     "METRICS",
     "METHODS",
+    "REDUCTIONS",
     "backends",
+    "branching_grid",
     "default_backend",
     "interpolate",
     "read_image",
@@ -55,6 +59,8 @@ __version__ = "0.1.0"
 #: length / min(b_u, b_v)), ``mean_stiffness`` (2 length / (b_u + b_v)) and ``mean_cost``
 #: (length (c_u + c_v) / 2, scikit-image's ``MCP_Geometric``).
 METRICS = ("uniform", "min_stiffness", "mean_stiffness", "mean_cost")
+#: Stiffness reductions of a branching grid's copies (:func:`branching_grid`).
+REDUCTIONS = ("mean", "min", "max", "harmonic")
 #: Shape-function methods.
 METHODS = ("distance_ratio", "sibson", "laplace")
 
@@ -238,6 +244,113 @@ class Cut:
 
 
 # ---- argument normalisation ----------------------------------------------------------------------
+
+
+class BranchingGrid(NamedTuple):
+    """A branching (non-manifold) coarse grid over a fine 3D field (docs/branching.md), as
+    :func:`branching_grid` returns it: one node, a *copy*, per connected piece of material (fine value
+    > 0) in each coarse cell of ``factor**3`` fine voxels; copies of neighbouring cells are linked where
+    their fine material touches. Copies are numbered by cell, then by their lowest fine voxel.
+
+    Arrays per copy: ``cell`` (flat index of its coarse cell, C order over ``coarse_shape``),
+    ``copy_voxel`` (flat index of its lowest fine voxel), ``voxel_count``, ``stiffness`` (the field's
+    dtype; the ``reduction`` of its fine values). ``cell_begin`` (cells + 1): the copies of cell c are
+    ``cell_begin[c]:cell_begin[c+1]``. Links in CSR form: the links of copy a are entries
+    ``link_begin[a]:link_begin[a+1]`` of ``link_copy`` (the other copy, increasing) and ``link_dir``
+    (the coarse stencil's direction index). ``fine_copy``: per fine voxel ``[z, y, x]`` its copy, -1
+    outside the material. Coarse geometry in array-axis order.
+    """
+
+    factor: int
+    connectivity: int
+    reduction: str
+    coarse_shape: Tuple[int, int, int]
+    coarse_spacing: Tuple[float, float, float]
+    coarse_origin: Tuple[float, float, float]
+    cell: np.ndarray
+    cell_begin: np.ndarray
+    copy_voxel: np.ndarray
+    voxel_count: np.ndarray
+    stiffness: np.ndarray
+    link_begin: np.ndarray
+    link_copy: np.ndarray
+    link_dir: np.ndarray
+    fine_copy: np.ndarray
+
+    @property
+    def copies(self) -> int:
+        """The number of copies (the graph's nodes)."""
+        return int(self.cell.shape[0])
+
+
+class BranchingDiagram(NamedTuple):
+    """The Voronoi diagram on a branching grid (``voronoi(..., coarsen=N)``): per copy ``distance``,
+    ``label`` (seed index, -1 unreachable) and ``parent`` (copy, -1 for seeds and unreachable copies),
+    ``seed_copies`` (each seed's copy); the same painted on the fine grid, ``fine_distance`` and
+    ``fine_label`` (``[z, y, x]``, +inf / -1 outside the material); and the ``grid``."""
+
+    grid: BranchingGrid
+    distance: np.ndarray
+    label: np.ndarray
+    parent: np.ndarray
+    seed_copies: np.ndarray
+    fine_distance: np.ndarray
+    fine_label: np.ndarray
+
+
+def _factor(value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"geovoronoi: the coarsening factor must be an integer, got {value!r}")
+    if value < 1 or value > 1 << 20:
+        raise ValueError(f"geovoronoi: the coarsening factor must be from 1 to {1 << 20}, got {value}")
+    return int(value)
+
+
+def _reduction(value: Any) -> str:
+    if value == "harmonic_mean":
+        value = "harmonic"
+    if value not in REDUCTIONS:
+        raise ValueError(f"geovoronoi: reduction must be one of {', '.join(REDUCTIONS)}, got {value!r}")
+    return str(value)
+
+
+def branching_grid(field: Any, factor: int, *, connectivity: Optional[int] = None, reduction: str = "mean",
+                   spacing: Any = None, origin: Any = None, orientation: Any = None) -> BranchingGrid:
+    """The branching grid of the 3D ``field`` ``[z, y, x]`` coarsened by ``factor`` (docs/branching.md).
+
+    Material is where the field is > 0 (NaN is empty). ``connectivity`` (6, 18 or 26, default 26) is
+    used for the pieces inside a cell, for the fine contacts that link copies and for the coarse
+    stencil. ``reduction``: a copy's stiffness from its fine values, one of :data:`REDUCTIONS`.
+    ``spacing``, ``origin``, ``orientation``: the fine grid's, as for :func:`voronoi`; the coarse grid
+    has spacing x factor and each cell centred on its fine voxels.
+
+    Raises ValueError for a factor < 1, a field that is not 3D or has no material.
+    """
+    f = _field_array(field)
+    if f.ndim != 3:
+        raise ValueError(f"geovoronoi: branching grids need a 3D field, got {f.ndim} dimensions")
+    sp = _axis_tuple(spacing, 3, "spacing", 1.0)
+    _check_spacing(sp)
+    org = _axis_tuple(origin, 3, "origin", 0.0)
+    _check_origin(org)
+    orient = _orientation(orientation, 3)
+    d = _ext._branching_grid(f, list(sp), list(org), [float(v) for v in np.ravel(orient)], _factor(factor),
+                             _connectivity(connectivity, 3), _reduction(reduction))
+    return BranchingGrid(**d)
+
+
+def _branching_voronoi(f: np.ndarray, s: np.ndarray, sp, org, orient, m: str, conn: int, b: str, nthreads: int,
+                       cb, factor: int, reduction: str) -> BranchingDiagram:
+    values = f[tuple(s.T)]
+    bad = ~(values > 0)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"geovoronoi: seed {i} at {tuple(int(v) for v in s[i])} lies in empty material (field "
+                         f"value {values[i]}), where the branching grid has no copy")
+    d = _ext._branching_voronoi(f, list(sp), list(org), [float(v) for v in np.ravel(orient)], factor, conn,
+                                _reduction(reduction), m, b, nthreads, s, cb)
+    d["grid"] = BranchingGrid(**d["grid"])
+    return BranchingDiagram(**d)
 
 
 def _field_array(field: Any) -> np.ndarray:
@@ -453,7 +566,8 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
             metric: str = "min_stiffness",
             connectivity: Optional[int] = None, mask: Any = None, world: bool = False, backend: str = "auto",
             threads: Optional[int] = None, progress: Optional[Callable[[float], Any]] = None,
-            parent: bool = False, cut: Optional["Cut"] = None) -> Diagram:
+            parent: bool = False, cut: Optional["Cut"] = None, coarsen: Optional[int] = None,
+            reduction: str = "mean") -> Union[Diagram, "BranchingDiagram"]:
     """Geodesic Voronoi diagram of ``seeds`` on the grid of ``field``.
 
     Every voxel gets its geodesic distance to the nearest seed (shortest path on the voxel grid,
@@ -503,10 +617,17 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
         removing either. It must have been made for this grid (shape, spacing, origin, orientation)
         and connectivity. Every backend honours it, bitwise alike. The diagram remembers it
         (``Diagram.cut``), and so do :func:`shape_functions` and :func:`update`.
+    coarsen : int, optional
+        Solve on the branching grid of the 3D ``field`` coarsened by this factor
+        (:func:`branching_grid`, docs/branching.md): seeds are fine voxels (or world points), each in
+        the copy holding it; returns a :class:`BranchingDiagram` (per copy, and painted on the fine
+        grid). Not with ``cut``; ``backend="auto"`` runs ``seq``; ``parent`` is always computed.
+    reduction : str
+        With ``coarsen``: the copies' stiffness, one of :data:`REDUCTIONS` (default ``"mean"``).
 
     Returns
     -------
-    Diagram
+    Diagram, or BranchingDiagram with ``coarsen``
 
     Raises
     ------
@@ -538,6 +659,12 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
         f = _apply_mask(f, mask)
         mask_array = np.asarray(mask)
     s = _points(seeds, ndim, bool(world), sp, org, f.shape, "seeds", orient)
+    if coarsen is not None:
+        if cut is not None:
+            raise ValueError("geovoronoi: cut= is not supported with coarsen= (branching grids) yet")
+        if ndim != 3:
+            raise ValueError(f"geovoronoi: coarsen= (branching grids) needs a 3D field, got {ndim} dimensions")
+        return _branching_voronoi(f, s, sp, org, orient, m, conn, b, nthreads, cb, _factor(coarsen), reduction)
     _check_seeds(f, s, m)
     if cut is not None:
         _check_cut(cut, f.shape, sp, org, orient, conn)

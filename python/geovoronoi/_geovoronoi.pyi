@@ -22,6 +22,12 @@ def _voronoi(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: 
              connectivity: int, backend: str, threads: int, seeds: npt.NDArray[Any], world: bool,
              with_parent: bool, progress: Optional[Callable[[float], Any]], cut: Optional[_CutHandle] = None
              ) -> _DiagramArrays: ...
+def _branching_grid(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float],
+                    orientation: Sequence[float], factor: int, connectivity: int, reduction: str) -> dict: ...
+def _branching_voronoi(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float],
+                       orientation: Sequence[float], factor: int, connectivity: int, reduction: str, metric: str,
+                       backend: str, threads: int, seeds: npt.NDArray[np.int64],
+                       progress: Optional[Callable[[float], Any]]) -> dict: ...
 def _update(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float], metric: str,
             connectivity: int, before: _DiagramHandle, cut: Optional[_CutHandle], all: Optional[_CutHandle],
             carved: Optional[npt.NDArray[np.int64]], added: Optional[npt.NDArray[np.int64]],

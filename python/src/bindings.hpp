@@ -384,6 +384,16 @@ nb::object weights_to_python(std::vector<label_t>&& node, std::vector<T>&& weigh
 nb::object voronoi_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
                          int connectivity, std::string backend, int threads, in_array seeds, bool world,
                          bool with_parent, nb::object progress, std::optional<cut_handle> cut);
+/// branching_grid() (branching.cpp): the arrays of the branching grid of a 3D float32 or float64 field,
+/// as a dict of gv.BranchingGrid's fields.
+nb::object branching_grid_entry(in_array field, std::vector<double> spacing, std::vector<double> origin,
+                                std::vector<double> orientation, int factor, int connectivity, std::string reduction);
+/// voronoi(..., coarsen=N) (branching.cpp): a dict of the grid's arrays ("grid"), the diagram per copy
+/// and painted on the fine grid.
+nb::object branching_voronoi_entry(in_array field, std::vector<double> spacing, std::vector<double> origin,
+                                   std::vector<double> orientation, int factor, int connectivity, std::string reduction,
+                                   std::string metric, std::string backend, int threads, in_array seeds,
+                                   nb::object progress);
 /// shape_functions() (or shape_functions_at() with points) on diagram @p h (with its cut edges).
 nb::object shape_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
                        int connectivity, std::string backend, int threads, diagram_handle& h, std::string method, int k,

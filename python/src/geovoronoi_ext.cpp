@@ -408,6 +408,13 @@ NB_MODULE(_geovoronoi, m) {
         nb::arg("seeds").noconvert(), nb::arg("world"), nb::arg("with_parent"),
         nb::arg("progress").none(), nb::arg("cut").none() = nb::none(),
         "Private: voronoi() after the Python layer normalised its arguments.");
+  m.def("_branching_grid", &branching_grid_entry, nb::arg("field").noconvert(), nb::arg("spacing"), nb::arg("origin"),
+        nb::arg("orientation"), nb::arg("factor"), nb::arg("connectivity"), nb::arg("reduction"),
+        "Private: branching_grid() after the Python layer normalised its arguments.");
+  m.def("_branching_voronoi", &branching_voronoi_entry, nb::arg("field").noconvert(), nb::arg("spacing"),
+        nb::arg("origin"), nb::arg("orientation"), nb::arg("factor"), nb::arg("connectivity"), nb::arg("reduction"),
+        nb::arg("metric"), nb::arg("backend"), nb::arg("threads"), nb::arg("seeds").noconvert(),
+        nb::arg("progress").none(), "Private: voronoi(..., coarsen=N) after the Python layer normalised its arguments.");
   m.def("_update", &update_entry, nb::arg("field").noconvert(), nb::arg("spacing"), nb::arg("origin"),
         nb::arg("metric"), nb::arg("connectivity"), nb::arg("before"), nb::arg("cut").none(), nb::arg("all").none(),
         nb::arg("carved").none(), nb::arg("added").none(), nb::arg("restiffened").none(), nb::arg("nodes"),

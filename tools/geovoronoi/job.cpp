@@ -1,6 +1,7 @@
 // See job.hpp.
 #include "job.hpp"
 
+#include "branching.hpp"
 #include "errors.hpp"
 #include "meshes.hpp"
 #include "outputs.hpp"
@@ -8,6 +9,7 @@
 
 #include <geovoronoi/cut_from_mesh.hpp>
 #include <geovoronoi/io/mesh.hpp>
+#include <geovoronoi/io/npy.hpp>
 #include <geovoronoi/io/read.hpp>
 #include <geovoronoi/precision.hpp>
 
@@ -119,7 +121,7 @@ gv::image<float, 3> to_float(const gv::image<double, 3>& f, const std::string& p
 
 std::set<std::string> solve_options(std::set<std::string> extra) {
   extra.insert({"--stiffness", "--seeds", "--metric", "--connectivity", "--backend", "--out", "--extrude", "--threads",
-                "--precision", "--cut", "--mesh"});
+                "--precision", "--cut", "--mesh", "--coarsen", "--reduction"});
   for (const auto& o : mesh_grid_options()) extra.insert(o);
   return extra;
 }
@@ -308,14 +310,29 @@ bool load_field(job& j, const arguments& a, const std::string& precision) {
 
 }  // namespace
 
-job load_job(const arguments& a) {
+job load_job(const arguments& a, const std::string& command) {
   job j;
+  if (a.has("--coarsen") || a.has("--reduction")) {
+    const std::string o = a.has("--coarsen") ? "--coarsen" : "--reduction";
+    if (command != "voronoi")
+      throw usage_error(o + " (branching grids) is not supported by `geovoronoi " + command +
+                        "` yet; only `geovoronoi voronoi` takes it");
+    if (!a.has("--coarsen")) throw usage_error("--reduction applies with --coarsen N only");
+    j.coarsen = int(a.integer("--coarsen", 1, 1, 1 << 20));
+    j.reduction = parse_reduction(a.get("--reduction", "mean"));
+    if (a.has("--cut")) throw usage_error("--cut is not supported with --coarsen (branching grids) yet");
+  }
   check_field_options(a);
   j.seeds_path = a.require("--seeds");
   j.out = a.require("--out");
   j.metric = parse_metric(a.get("--metric", "min_stiffness"));
   j.connectivity = check_connectivity(int(a.integer("--connectivity", 26, 0, 1000)), 3);
   j.solver = &pick_backend(a);
+  if (j.coarsen > 0) {  // the branching solve runs on seq unless told; cuda has none
+    if (!a.has("--backend")) j.solver = &find_backend(backend_id::seq);
+    if (j.solver->id == backend_id::cuda)
+      throw usage_error("--backend cuda is not available on branching grids (--coarsen); use seq or thrust");
+  }
   j.threads = use_threads(a);
   const std::string precision = precision_option(a);
   const bool in_float = load_field(j, a, precision);
@@ -363,6 +380,7 @@ job load_job(const arguments& a) {
     j.seeds.push_back(c);
     j.seed_lines.push_back(r.line);
   }
+  if (j.coarsen > 0) return j;  // no regular problem: the branching grid is built when solving
   if (j.in_double)
     make_problem_of<double>(j, a);
   else
@@ -407,6 +425,58 @@ template gv::diagram<float, 3> solve_diagram(const job&, const typed_problem<flo
 template gv::diagram<double, 3> solve_diagram(const job&, const typed_problem<double, 3>&, const gv::solve_options&);
 
 namespace {
+
+/// copies.npz: the branching grid's copies and the diagram on them (see docs/cli.md).
+template <class T>
+void write_copies(const std::string& path, const branching_solution<T>& s) {
+  const auto& g = s.grid;
+  std::vector<std::int64_t> extent;
+  for (int a = 2; a >= 0; --a) extent.push_back(g.coarse.extent(a));
+  const std::vector<std::int64_t> factor{g.factor};
+  gio::npz_entries e;
+  e.add("cell", g.copy_cell)
+      .add("distance", s.copies.distance)
+      .add("label", s.copies.label)
+      .add("parent", s.copies.parent)
+      .add("stiffness", g.stiffness)
+      .add("voxel_count", g.voxel_count)
+      .add("link_begin", g.link_begin)
+      .add("link_copy", g.link_copy)
+      .add("link_dir", g.link_dir)
+      .add("fine_copy", g.fine_copy)
+      .add("coarse_shape", extent)
+      .add("factor", factor);
+  gio::write_npz(path, e);
+}
+
+/// `voronoi --coarsen N`: the branching grid's diagram, painted on the fine grid for the regular
+/// outputs, and copies.npz. Returns the number of copies.
+template <class T>
+std::size_t branching_and_outputs(const job& j, output_dir& out, progress_bar& bar) {
+  bar.update("voronoi", 0.0);
+  gv::solve_options opt = j.options();
+  opt.progress = [&](double x) {
+    bar.set_fraction(x);
+    return true;
+  };
+  const branching_key key{j.solver->id, j.metric, j.connectivity, j.coarsen, j.reduction};
+  const auto s = [&] {
+    try {
+      return solve_branching<T>(key, view(j.field_in<T>()), j.seeds, opt);
+    } catch (const std::invalid_argument& e) {
+      throw usage_error(locate_seed_error(e.what(), j.seeds_path, j.seed_lines));
+    } catch (const gv::overflow_error& e) {
+      throw usage_error(j.field_name + ": " + library_message(e) +
+                        (std::is_same_v<T, float> ? " (on the command line: --precision double, or auto)" : ""));
+    }
+  }();
+  require_own_voxels(s.fine, j.seeds_path, j.seed_lines);
+  bar.update("writing");
+  write_voronoi(out, s.fine, j.field_in<T>(), j.pictures());
+  write_copies(out.subdir(".") + "/copies.npz", s);
+  return std::size_t(s.grid.copies());
+}
+
 template <class T>
 void diagram_and_outputs(const job& j, output_dir& out, progress_bar& bar, const after_diagram<T>& more) {
   bar.update("voronoi", 0.0);
@@ -427,10 +497,18 @@ int solve_and_write(const char* command, const arguments& a, const std::function
   progress_bar bar(std::string("geovoronoi ") + command);
   bar.update("reading");
   const gio::read_log reads;  // every file the run reads: none may lie inside --out
-  const job j = load_job(a);
+  const job j = load_job(a, command);
   for (const auto& n : j.notes) bar.note(std::string("geovoronoi ") + command + ": " + n);
   if (check) check(j);
   output_dir out(j.out, reads, std::string("geovoronoi ") + command);
+  if (j.coarsen > 0) {
+    const std::size_t copies = j.in_double ? branching_and_outputs<double>(j, out, bar)
+                                           : branching_and_outputs<float>(j, out, bar);
+    out.commit();
+    bar.finish();
+    branching_summary(command, j.geometry(), j.coarsen, copies, j.seeds.size(), j.solver->name, bar.seconds(), j.out);
+    return 0;
+  }
   if (j.in_double)
     diagram_and_outputs<double>(j, out, bar, more_double);
   else

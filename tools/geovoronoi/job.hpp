@@ -43,6 +43,11 @@ struct job {
   std::shared_ptr<const gv::cut_table> cuts;
   std::shared_ptr<const gv::cut_set<3>> cut_set;  ///< the same edges as a cut_set (for `cut`'s update)
   std::size_t cut_edges = 0;
+  /// `--coarsen N`: the field is the fine image of a branching grid of factor N (0 without it: a regular
+  /// run); `--reduction`, the copies' stiffness. Such a run makes no regular problem (problem_float and
+  /// problem_double stay null).
+  int coarsen = 0;
+  gv::stiffness_reduction reduction = gv::stiffness_reduction::mean;
   /// Warnings found while loading (a --cut mesh that cuts no edge), printed by the command as notes.
   std::vector<std::string> notes;
   /// The problem of the run (field, metric, connectivity, cuts) on its backend, in its precision.
@@ -86,7 +91,9 @@ std::set<std::string> solve_flags();
 /// The options of voronoi and shape-functions that may be repeated (--cut).
 std::set<std::string> solve_repeatable();
 
-job load_job(const arguments& a);
+/// The job of @p a for the command @p command ("voronoi", "shape-functions", "cut"): --coarsen and
+/// --reduction are the voronoi command's only (a usage_error naming the command otherwise).
+job load_job(const arguments& a, const std::string& command);
 
 /// What `shape-functions` and `cut --method` read about the shape functions.
 struct shape_args {

@@ -149,4 +149,12 @@ void summary(const char* what, const gv::grid<3>& g, std::size_t seeds, const st
   std::fflush(stdout);
 }
 
+void branching_summary(const char* what, const gv::grid<3>& fine, int factor, std::size_t copies, std::size_t seeds,
+                       const std::string& backend, double seconds, const std::string& out) {
+  std::printf("geovoronoi %s: %lld fine voxels, coarsened by %d into %zu copies (branching grid), %zu seeds, "
+              "backend %s, %.2f s, outputs in %s\n",
+              what, (long long)fine.size(), factor, copies, seeds, backend.c_str(), seconds, out.c_str());
+  std::fflush(stdout);
+}
+
 }  // namespace gvcli

@@ -60,4 +60,8 @@ void write_shape_at(const std::string& dir, const gv::point_weights<T>& w);
 void summary(const char* what, const gv::grid<3>& g, std::size_t seeds, const std::string& backend, double seconds,
              const std::string& out);
 
+/// The summary line of `voronoi --coarsen N`: the fine voxels, the factor and the copies.
+void branching_summary(const char* what, const gv::grid<3>& fine, int factor, std::size_t copies, std::size_t seeds,
+                       const std::string& backend, double seconds, const std::string& out);
+
 }  // namespace gvcli

@@ -1,6 +1,7 @@
 #pragma once
 /// @file io/npy.hpp
-/// @brief NumPy `.npy` arrays (format versions 1.0, 2.0 and 3.0), read and write.
+/// @brief NumPy `.npy` arrays (format versions 1.0, 2.0 and 3.0), read and write; uncompressed `.npz`
+///        archives of them, write.
 ///
 /// Axis order: a C-ordered numpy array of shape (nz, ny, nx) — index [z, y, x] — has its last index
 /// fastest in memory, which is exactly geovoronoi's x-fastest layout v = x + nx*(y + ny*z). So
@@ -17,6 +18,8 @@
 #include <geovoronoi/io/common.hpp>
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cstdlib>
 
 namespace geovoronoi::io {
@@ -184,10 +187,11 @@ npy_array<T> read_npy(const std::string& path) {
   return parse_npy<T>(path, read_file(path));
 }
 
-/// Writes `count` values as a C-ordered .npy array of the given numpy shape, element type `type`.
+/// The bytes of a C-ordered .npy file holding `count` values of the given numpy shape, element type
+/// `type` (what write_npy() writes and write_npz() stores).
 template <class T>
-void write_npy(const std::string& path, const T* data, const std::vector<index_t>& shape,
-               element_type type = element_type_of<T>()) {
+std::vector<unsigned char> npy_bytes(const std::string& path, const T* data, const std::vector<index_t>& shape,
+                                     element_type type = element_type_of<T>()) {
   std::uint64_t count = 1;
   for (auto n : shape) {
     if (n < 0) throw io_error(path, "negative dimension in the .npy shape");
@@ -214,6 +218,129 @@ void write_npy(const std::string& path, const T* data, const std::vector<index_t
   out.resize(off + std::size_t(count) * element_size(type));
   detail::convert_back(path, type, data, std::size_t(count), out.data() + off);
   if (!detail::host_is_little_endian()) detail::byte_swap(out.data() + off, std::size_t(count), element_size(type));
+  return out;
+}
+
+/// Writes `count` values as a C-ordered .npy array of the given numpy shape, element type `type`.
+template <class T>
+void write_npy(const std::string& path, const T* data, const std::vector<index_t>& shape,
+               element_type type = element_type_of<T>()) {
+  const auto out = npy_bytes(path, data, shape, type);
+  detail::write_file(path, out.data(), out.size());
+}
+
+/// The arrays of an .npz file, in the order they are stored: each a name (without ".npy") and the
+/// bytes of its .npy file (npy_bytes()).
+class npz_entries {
+ public:
+  /// Adds @p values as array @p name of numpy shape @p shape.
+  template <class T>
+  npz_entries& add(const std::string& name, const T* values, const std::vector<index_t>& shape) {
+    entries_.push_back({name, npy_bytes(name + ".npy", values, shape)});
+    return *this;
+  }
+  /// Adds a 1D array.
+  template <class T>
+  npz_entries& add(const std::string& name, const std::vector<T>& values) {
+    return add(name, values.data(), {index_t(values.size())});
+  }
+  /// Adds an image, of shape (nz, ny, nx) (3D) or (ny, nx) (2D).
+  template <class T, int Dim>
+  npz_entries& add(const std::string& name, const image<T, Dim>& img) {
+    std::vector<index_t> shape;
+    for (int a = Dim - 1; a >= 0; --a) shape.push_back(img.geometry().extent(a));
+    return add(name, img.data(), shape);
+  }
+  struct entry {
+    std::string name;
+    std::vector<unsigned char> bytes;
+  };
+  const std::vector<entry>& entries() const noexcept { return entries_; }
+
+ private:
+  std::vector<entry> entries_;
+};
+
+namespace detail {
+/// CRC-32 (ISO 3309, the ZIP checksum) of @p n bytes.
+inline std::uint32_t crc32(const unsigned char* p, std::size_t n) noexcept {
+  static const auto table = [] {
+    std::array<std::uint32_t, 256> t{};
+    for (std::uint32_t i = 0; i < 256; ++i) {
+      std::uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  std::uint32_t c = 0xFFFFFFFFu;
+  for (std::size_t i = 0; i < n; ++i) c = table[(c ^ p[i]) & 0xFFu] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+inline void put_le(std::vector<unsigned char>& out, std::uint64_t x, int bytes) {
+  for (int i = 0; i < bytes; ++i) out.push_back(static_cast<unsigned char>((x >> (8 * i)) & 0xFFu));
+}
+}  // namespace detail
+
+/// Writes an uncompressed .npz (numpy.load's format: a ZIP archive of "<name>.npy" members, stored
+/// without compression, dated 1980-01-01 so that equal arrays give equal bytes). The archive and each
+/// member must stay under 4 GiB and 65,535 members (no ZIP64): an io_error otherwise.
+inline void write_npz(const std::string& path, const npz_entries& arrays) {
+  const auto& es = arrays.entries();
+  if (es.size() >= 0xFFFFu) throw io_error(path, "too many arrays for an .npz without ZIP64");
+  std::vector<unsigned char> out, central;
+  const std::uint32_t dos_time = 0, dos_date = (0u << 9) | (1u << 5) | 1u;  // 1980-01-01 00:00
+  for (const auto& e : es) {
+    const std::string name = e.name + ".npy";
+    if (e.bytes.size() >= 0xFFFFFFFFull || out.size() + e.bytes.size() + 30 + name.size() >= 0xFFFFFFFFull)
+      throw io_error(path, "the array '" + e.name + "' makes the .npz too large (4 GiB) for a ZIP without ZIP64");
+    const std::uint32_t crc = detail::crc32(e.bytes.data(), e.bytes.size());
+    const std::uint64_t offset = out.size(), size = e.bytes.size();
+    // local file header
+    detail::put_le(out, 0x04034b50u, 4);
+    detail::put_le(out, 20, 2);  // version needed: 2.0
+    detail::put_le(out, 0, 2);   // flags
+    detail::put_le(out, 0, 2);   // stored
+    detail::put_le(out, dos_time, 2);
+    detail::put_le(out, dos_date, 2);
+    detail::put_le(out, crc, 4);
+    detail::put_le(out, size, 4);
+    detail::put_le(out, size, 4);
+    detail::put_le(out, name.size(), 2);
+    detail::put_le(out, 0, 2);
+    out.insert(out.end(), name.begin(), name.end());
+    out.insert(out.end(), e.bytes.begin(), e.bytes.end());
+    // its central directory record
+    detail::put_le(central, 0x02014b50u, 4);
+    detail::put_le(central, 20, 2);  // made by: MS-DOS, 2.0
+    detail::put_le(central, 20, 2);
+    detail::put_le(central, 0, 2);
+    detail::put_le(central, 0, 2);
+    detail::put_le(central, dos_time, 2);
+    detail::put_le(central, dos_date, 2);
+    detail::put_le(central, crc, 4);
+    detail::put_le(central, size, 4);
+    detail::put_le(central, size, 4);
+    detail::put_le(central, name.size(), 2);
+    detail::put_le(central, 0, 2);  // extra
+    detail::put_le(central, 0, 2);  // comment
+    detail::put_le(central, 0, 2);  // disk
+    detail::put_le(central, 0, 2);  // internal attributes
+    detail::put_le(central, 0, 4);  // external attributes
+    detail::put_le(central, offset, 4);
+    central.insert(central.end(), name.begin(), name.end());
+  }
+  if (out.size() + central.size() >= 0xFFFFFFFFull) throw io_error(path, "the .npz is too large (4 GiB) for a ZIP without ZIP64");
+  const std::uint64_t cd_offset = out.size(), cd_size = central.size();
+  out.insert(out.end(), central.begin(), central.end());
+  detail::put_le(out, 0x06054b50u, 4);
+  detail::put_le(out, 0, 2);
+  detail::put_le(out, 0, 2);
+  detail::put_le(out, es.size(), 2);
+  detail::put_le(out, es.size(), 2);
+  detail::put_le(out, cd_size, 4);
+  detail::put_le(out, cd_offset, 4);
+  detail::put_le(out, 0, 2);
   detail::write_file(path, out.data(), out.size());
 }
 

@@ -223,7 +223,7 @@ int run(const std::vector<std::string>& args) {
   progress_bar bar("geovoronoi cut");
   bar.update("reading");
   const geovoronoi::io::read_log reads;  // every file the run reads: none may lie inside --out
-  const job j = load_job(a);
+  const job j = load_job(a, "cut");
   for (const auto& n : j.notes) bar.note("geovoronoi cut: " + n);
   if (a.has("--method")) check_picture_node(shape, j);
   carve_box carve;  // the union of every --carve box

@@ -1,0 +1,147 @@
+// The extension's branching grids (gv.branching_grid(), gv.voronoi(..., coarsen=N)) on the front end's
+// branching unit (tools/geovoronoi/branching.hpp), which the command-line tool shares: this file only
+// translates the arguments and hands the arrays to NumPy (axes [z, y, x]).
+
+#include "bindings.hpp"
+#include "branching.hpp"
+
+namespace gvpy {
+
+namespace {
+
+/// The 3D grid of @p field with spacing, origin and orientation in array-axis order.
+gv::grid<3> branching_field_grid(const in_array& field, const std::vector<double>& spacing,
+                                 const std::vector<double>& origin, const std::vector<double>& orientation) {
+  if (field.ndim() != 3)
+    throw std::invalid_argument("geovoronoi: branching grids (coarsen=) need a 3D field, got " +
+                                std::to_string(field.ndim()) + " dimensions");
+  std::vector<std::size_t> shape(3);
+  for (std::size_t i = 0; i < 3; ++i) shape[i] = field.shape(i);
+  return make_grid<3>(shape, spacing, origin, orientation);
+}
+
+/// (x, y, z) values -> a tuple in array-axis order.
+template <class V>
+nb::tuple reversed3(const V& v) {
+  return nb::make_tuple(v[2], v[1], v[0]);
+}
+
+/// The grid's arrays as a dict (names of gv.BranchingGrid).
+template <class T>
+nb::dict grid_dict(gvcli::branching_arrays<T>&& a, int connectivity, gv::stiffness_reduction r) {
+  nb::dict d;
+  const auto& c = a.coarse;
+  const std::size_t copies = std::size_t(a.copies()), links = a.link_copy.size();
+  d["factor"] = a.factor;
+  d["connectivity"] = connectivity;
+  d["reduction"] = std::string(gvcli::reduction_name(r));
+  d["coarse_shape"] = nb::make_tuple(c.extent(2), c.extent(1), c.extent(0));
+  d["coarse_spacing"] = reversed3(c.spacing());
+  d["coarse_origin"] = reversed3(c.origin());
+  const std::vector<std::size_t> fine_shape{std::size_t(a.fine_copy.geometry().extent(2)),
+                                            std::size_t(a.fine_copy.geometry().extent(1)),
+                                            std::size_t(a.fine_copy.geometry().extent(0))};
+  const std::size_t cells = std::size_t(c.size());
+  d["cell"] = vector_to_numpy(std::move(a.copy_cell), {copies});
+  d["cell_begin"] = vector_to_numpy(std::move(a.cell_begin), {cells + 1});
+  d["copy_voxel"] = vector_to_numpy(std::move(a.copy_voxel), {copies});
+  d["voxel_count"] = vector_to_numpy(std::move(a.voxel_count), {copies});
+  d["stiffness"] = vector_to_numpy(std::move(a.stiffness), {copies});
+  d["link_begin"] = vector_to_numpy(std::move(a.link_begin), {copies + 1});
+  d["link_copy"] = vector_to_numpy(std::move(a.link_copy), {links});
+  d["link_dir"] = vector_to_numpy(std::move(a.link_dir), {links});
+  d["fine_copy"] = vector_to_numpy(std::move(a.fine_copy.values()), fine_shape);
+  return d;
+}
+
+template <class T>
+gv::image_view<const T, 3> branching_view(const in_array& field, const gv::grid<3>& g) {
+  const T* data = static_cast<const T*>(field.data());
+  last_field_address = reinterpret_cast<std::uintptr_t>(data);
+  return gv::image_view<const T, 3>(g, data);
+}
+
+}  // namespace
+
+nb::object branching_grid_entry(in_array field, std::vector<double> spacing, std::vector<double> origin,
+                                std::vector<double> orientation, int factor, int connectivity, std::string reduction) {
+  const gv::grid<3> g = branching_field_grid(field, spacing, origin, orientation);
+  const int conn = gvcli::check_connectivity(connectivity, 3);
+  const auto r = gvcli::parse_reduction(reduction);
+  const bool f32 = field.dtype() == nb::dtype<float>();
+  if (!f32 && field.dtype() != nb::dtype<double>()) throw nb::type_error("geovoronoi: the field must be float32 or float64");
+  if (f32) {
+    gvcli::branching_arrays<float> a;
+    {
+      nb::gil_scoped_release release;
+      a = gvcli::build_branching<float>(branching_view<float>(field, g), factor, conn, r);
+    }
+    return grid_dict(std::move(a), conn, r);
+  }
+  gvcli::branching_arrays<double> a;
+  {
+    nb::gil_scoped_release release;
+    a = gvcli::build_branching<double>(branching_view<double>(field, g), factor, conn, r);
+  }
+  return grid_dict(std::move(a), conn, r);
+}
+
+namespace {
+template <class T>
+nb::object branching_voronoi_impl(const in_array& field, const gv::grid<3>& g, const gvcli::branching_key& key,
+                                  int threads, const in_array& seeds, nb::object progress) {
+  const auto coords = seeds_to_coords<3>(g, seeds, false);
+  gv::solve_options opt;
+  opt.threads = threads > 0 ? unsigned(threads) : 0u;
+  progress_bridge bridge{progress, 0.0, std::nullopt};
+  opt.progress = [&](double f) { return bridge(f); };
+  gvcli::branching_solution<T> s;
+  try {
+    nb::gil_scoped_release release;
+    thread_count_scope scope(threads);
+    const auto t0 = std::chrono::steady_clock::now();
+    s = gvcli::solve_branching<T>(key, branching_view<T>(field, g), coords, opt);
+    last_core_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  } catch (const gv::cancelled&) {
+    if (bridge.error) throw std::move(*bridge.error);
+    throw;
+  }
+  if (bridge.error) throw std::move(*bridge.error);
+  bridge.finish();
+  last_backend = key.backend == gvcli::backend_id::thrust ? 1 : 0;
+  const std::size_t copies = std::size_t(s.grid.copies());
+  const std::vector<std::size_t> fine_shape{std::size_t(g.extent(2)), std::size_t(g.extent(1)), std::size_t(g.extent(0))};
+  nb::dict d;
+  d["grid"] = grid_dict(std::move(s.grid), key.connectivity, key.reduction);
+  d["distance"] = vector_to_numpy(std::move(s.copies.distance), {copies});
+  d["label"] = vector_to_numpy(std::move(s.copies.label), {copies});
+  d["parent"] = vector_to_numpy(std::move(s.copies.parent), {copies});
+  d["seed_copies"] = vector_to_numpy(std::move(s.copies.seeds), {coords.size()});
+  d["fine_distance"] = vector_to_numpy(std::move(s.fine.distance.values()), fine_shape);
+  d["fine_label"] = vector_to_numpy(std::move(s.fine.label.values()), fine_shape);
+  return d;
+}
+}  // namespace
+
+nb::object branching_voronoi_entry(in_array field, std::vector<double> spacing, std::vector<double> origin,
+                                   std::vector<double> orientation, int factor, int connectivity, std::string reduction,
+                                   std::string metric, std::string backend, int threads, in_array seeds,
+                                   nb::object progress) {
+  const gv::grid<3> g = branching_field_grid(field, spacing, origin, orientation);
+  gvcli::branching_key key;
+  key.connectivity = gvcli::check_connectivity(connectivity, 3);
+  key.reduction = gvcli::parse_reduction(reduction);
+  key.metric = gvcli::parse_metric(metric);
+  key.factor = factor;
+  const gvcli::backend* b = gvcli::parse_backend(backend, true);
+  key.backend = b ? b->id : gvcli::backend_id::seq;  // auto: seq (the branching solve's default)
+  if (key.backend == gvcli::backend_id::seq && threads > 1)
+    throw std::invalid_argument("geovoronoi: backend 'seq' runs on one thread; threads=" + std::to_string(threads) +
+                                " needs backend 'thrust'");
+  const bool f32 = field.dtype() == nb::dtype<float>();
+  if (!f32 && field.dtype() != nb::dtype<double>()) throw nb::type_error("geovoronoi: the field must be float32 or float64");
+  return f32 ? branching_voronoi_impl<float>(field, g, key, threads, seeds, progress)
+             : branching_voronoi_impl<double>(field, g, key, threads, seeds, progress);
+}
+
+}  // namespace gvpy
