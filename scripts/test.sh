@@ -30,6 +30,10 @@
 # - the Thrust CPP and TBB suites run a reduced type/metric matrix (the code they share with the
 #   OpenMP suite is that suite's full matrix; what differs is the Thrust system); under the sanitizers
 #   the Thrust OpenMP suite runs the reduced matrix too (the full one runs in the g++ build);
+# - the front end's typed-problem units (every metric, connectivity and host backend, for the tool and
+#   the Python extension: half of the g++ build at -O1) are compiled at -O0: there they run only the
+#   small problems of the end-to-end tests, and the library code they instantiate is compiled at -O1
+#   (with its warnings) by the Thrust suites and the benchmarks;
 # - the benchmarks run one short iteration per case at most 32 voxels per side (ctest label
 #   `bench`), not timed runs;
 # - the sanitizer build is clang at -O0 with line tables (-g1): a quarter of the compile time of -O1
@@ -132,7 +136,8 @@ python_venv
 configure build-test -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
       -DCMAKE_CUDA_FLAGS_RELEASE="$cuda_flags" -DGEOVORONOI_WERROR=ON \
       -DGEOVORONOI_CUDA_ARCHITECTURES="$cuda_arch" -DGEOVORONOI_TEST_CUDA_REDUCED_MATRIX="$reduced_cuda" \
-      -DGEOVORONOI_TEST_HOST_SUITES=OFF -DGEOVORONOI_BUILD_PYTHON=ON -DPython_EXECUTABLE="$venv_python"
+      -DGEOVORONOI_TEST_HOST_SUITES=OFF -DGEOVORONOI_BUILD_PYTHON=ON -DPython_EXECUTABLE="$venv_python" \
+      -DGEOVORONOI_FRONTEND_INSTANCE_OPTIONS=-O0
 cmake --build build-test -j"$jobs"
 stage_done "g++ build (sanitizer stage alongside)"
 

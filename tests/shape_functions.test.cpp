@@ -114,16 +114,16 @@ TEST_CASE("shape functions: world points whose voxel is outside the grid are nam
 }
 
 namespace {
-// The progress tests' problem: a 24^3 gradient, 8 nodes, min_stiffness, 26 neighbours; calls
+// The progress tests' problem: a 16^3 gradient, 8 nodes, min_stiffness, 26 neighbours; calls
 // test(problem, diagram).
 template <class Test>
-void with_gradient24(Test&& test) {
+void with_gradient16(Test&& test) {
   namespace gv = geovoronoi;
-  const gv::grid<3> g({24, 24, 24});
+  const gv::grid<3> g({16, 16, 16});
   const auto f = gv::phantom::gradient(g);
   const auto p = gv::make_problem(g, f.values(), gv::min_stiffness{}, gv::connectivity<26>{});
   std::vector<gv::coord<3>> seeds;
-  for (gv::index_t i = 0; i < 8; ++i) seeds.push_back({3 + 6 * (i % 3), 3 + 7 * ((i / 3) % 3), 4 + 5 * (i % 4)});
+  for (gv::index_t i = 0; i < 8; ++i) seeds.push_back({2 + 5 * (i % 3), 2 + 5 * ((i / 3) % 3), 2 + 4 * (i % 4)});
   test(p, gv::voronoi(gv::seq, p, seeds));
 }
 }  // namespace
@@ -133,7 +133,7 @@ TEST_CASE("shape functions: Sibson progress moves while the single-owner step se
   // queries its short search leaves undecided; the bar must move through them too, then go on from
   // where they left it, never back.
   namespace gv = geovoronoi;
-  with_gradient24([](const auto& p, const auto& d) {
+  with_gradient16([](const auto& p, const auto& d) {
     gv::shape_options o;
     o.method = gv::shape_method::sibson;
     const auto plain = gv::shape_functions(gv::seq, p, d, o);
@@ -164,14 +164,14 @@ TEST_CASE("shape functions: Sibson and Laplace progress moves while the sample q
   // The query loop runs the first search of every task first (the sample of its estimate): a quarter of
   // all queries with the lane search. Progress must move during it, not jump at its end.
   namespace gv = geovoronoi;
-  with_gradient24([](const auto& p, const auto& d) {
+  with_gradient16([](const auto& p, const auto& d) {
     for (const auto m : {gv::shape_method::laplace, gv::shape_method::sibson}) {
       gv::shape_options o;
       o.method = m;
       o.skip_single_owner_rows = false;
       const auto plain = gv::shape_functions(gv::seq, p, d, o);
       std::vector<double> seen;
-      o.batch_size = 256;  // a report every 256 queries: about 50 here
+      o.batch_size = 64;  // a report every 64 queries: about 60 here
       o.progress = [&](double x) {
         seen.push_back(x);
         return true;

@@ -121,6 +121,18 @@ inline double unit_hash(std::uint64_t x) {
   x ^= x >> 31;
   return double(x >> 11) * (1.0 / 9007199254740992.0);
 }
+/// The width of a finger of phantom::fingers() (the rule is there), checking its arguments.
+inline index_t finger_width(const grid<3>& g, int count, index_t gap) {
+  if (count < 1) throw std::invalid_argument("phantom::fingers: count must be >= 1");
+  if (gap < 1) throw std::invalid_argument("phantom::fingers: gap must be >= 1 voxel");
+  const index_t nx = g.extent(0);
+  const index_t w = (nx - (count - 1) * gap) / count;
+  if (w < 1)
+    throw std::invalid_argument("phantom::fingers: " + std::to_string(count) + " fingers with gaps of " +
+                                std::to_string(gap) + " voxels do not fit in " + std::to_string(nx) + " columns");
+  return w;
+}
+
 }  // namespace detail
 
 /// Tissue of a point of the MRI-like pelvis, in normalised coordinates u (left-right), v
@@ -209,14 +221,8 @@ inline image<float, 3> mri_like(const grid<3>& g, std::uint64_t salt = 17, doubl
  * @endcode
  */
 inline image<float, 3> fingers(const grid<3>& g, int count = 4, index_t gap = 1, float stiffness = 1.0f) {
-  if (count < 1) throw std::invalid_argument("phantom::fingers: count must be >= 1");
-  if (gap < 1) throw std::invalid_argument("phantom::fingers: gap must be >= 1 voxel");
   const index_t nx = g.extent(0), ny = g.extent(1), nz = g.extent(2);
-  const index_t w = (nx - (count - 1) * gap) / count;
-  if (w < 1)
-    throw std::invalid_argument("phantom::fingers: " + std::to_string(count) + " fingers with gaps of " +
-                                std::to_string(gap) + " voxels do not fit in " + std::to_string(nx) + " columns");
-  const index_t palm = std::max<index_t>(1, ny / 4);
+  const index_t w = detail::finger_width(g, count, gap), palm = std::max<index_t>(1, ny / 4);
   image<float, 3> f(g, 0.0f);
   for (index_t z = 0; z < nz; ++z)
     for (index_t y = 0; y < ny; ++y)
@@ -394,6 +400,48 @@ inline std::vector<voxelize_part> limb() {
   parts[1].value = 1.5e10;
   parts[1].label = 2;
   parts[1].name = "bone";
+  return parts;
+}
+
+/**
+ * @brief phantom::fingers(g, count, gap, stiffness) as closed meshes: the palm and each finger a box
+ *        (voxelize_part with @p stiffness and label 1) whose faces lie half a voxel outside its
+ *        voxels' centres, in world coordinates through g (origin, spacing and direction).
+ *
+ * No voxel centre lies on a face, so voxelize(fingers_meshes(g, ...), g) reproduces
+ * fingers(g, ...) exactly: the hand as a user would bring it, a surface mesh, for voxelizing at the
+ * fine resolution of a branching grid. Fingers and palm touch along a face (they are separate parts
+ * of one material).
+ * @throws std::invalid_argument as fingers() does.
+ */
+inline std::vector<voxelize_part> fingers_meshes(const grid<3>& g, int count = 4, index_t gap = 1, float stiffness = 1.0f) {
+  const index_t nx = g.extent(0), ny = g.extent(1), nz = g.extent(2);
+  const index_t w = detail::finger_width(g, count, gap), palm = std::max<index_t>(1, ny / 4);
+  // a box over the voxels [lo, hi) in index space, its corners moved to world coordinates
+  auto box = [&](coord<3> lo, coord<3> hi, std::string name) {
+    voxelize_part part;
+    part.mesh = box_mesh({double(lo[0]) - 0.5, double(lo[1]) - 0.5, double(lo[2]) - 0.5},
+                         {double(hi[0]) - 0.5, double(hi[1]) - 0.5, double(hi[2]) - 0.5});
+    for (auto& v : part.mesh.vertices) {
+      std::array<double, 3> x{};
+      for (int r = 0; r < 3; ++r) {
+        x[std::size_t(r)] = g.origin()[r];
+        for (int a = 0; a < 3; ++a) x[std::size_t(r)] += g.direction(r, a) * (v[std::size_t(a)] * g.spacing(a));
+      }
+      v = x;
+    }
+    part.value = stiffness;
+    part.label = 1;
+    part.name = std::move(name);
+    return part;
+  };
+  std::vector<voxelize_part> parts;
+  parts.push_back(box({0, 0, 0}, {nx, palm, nz}, "palm"));
+  if (palm < ny)
+    for (int i = 0; i < count; ++i) {
+      const index_t x0 = index_t(i) * (w + gap);
+      parts.push_back(box({x0, palm, 0}, {x0 + w, ny, nz}, "finger " + std::to_string(i)));
+    }
   return parts;
 }
 

@@ -327,11 +327,12 @@ job load_job(const arguments& a, const std::string& command) {
   j.out = a.require("--out");
   j.metric = parse_metric(a.get("--metric", "min_stiffness"));
   j.connectivity = check_connectivity(int(a.integer("--connectivity", 26, 0, 1000)), 3);
-  j.solver = &pick_backend(a);
-  if (j.coarsen > 0) {  // the branching solve runs on seq unless told; cuda has none
-    if (!a.has("--backend")) j.solver = &find_backend(backend_id::seq);
-    if (j.solver->id == backend_id::cuda)
+  if (j.coarsen > 0) {  // the branching solve runs on seq unless told; cuda has none (said before any probe)
+    if (a.get("--backend", "") == "cuda")
       throw usage_error("--backend cuda is not available on branching grids (--coarsen); use seq or thrust");
+    j.solver = a.has("--backend") ? &pick_backend(a) : &find_backend(backend_id::seq);
+  } else {
+    j.solver = &pick_backend(a);
   }
   j.threads = use_threads(a);
   const std::string precision = precision_option(a);
