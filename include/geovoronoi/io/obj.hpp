@@ -117,6 +117,7 @@ inline triangle_mesh read_obj(const std::string& path) { return parse_obj(path, 
  *         written.
  */
 inline void write_obj(const std::string& path, const triangle_mesh& mesh) {
+  detail::check_vertex_indices(path, mesh);
   std::string text = "# written by geovoronoi\n";
   char buf[128];
   for (const auto& v : mesh.vertices) {
@@ -125,10 +126,6 @@ inline void write_obj(const std::string& path, const triangle_mesh& mesh) {
   }
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
-    for (int k = 0; k < 3; ++k)
-      if (tri[k] >= mesh.vertices.size())
-        throw io_error(path, "triangle " + std::to_string(t) + " refers to vertex " + std::to_string(tri[k]) + " of " +
-                                 std::to_string(mesh.vertices.size()));
     std::snprintf(buf, sizeof buf, "f %lu %lu %lu\n", static_cast<unsigned long>(tri[0]) + 1,
                   static_cast<unsigned long>(tri[1]) + 1, static_cast<unsigned long>(tri[2]) + 1);
     text += buf;

@@ -109,6 +109,18 @@ inline bool stl_starts_solid(const std::vector<unsigned char>& bytes) {
   return bytes.size() - i >= 5 && std::memcmp(bytes.data() + i, "solid", 5) == 0;
 }
 
+/// Throws io_error naming @p path and the first triangle of @p mesh that refers to a missing vertex
+/// (the mesh writers' check).
+inline void check_vertex_indices(const std::string& path, const triangle_mesh& mesh) {
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k)
+      if (tri[k] >= mesh.vertices.size())
+        throw io_error(path, "triangle " + std::to_string(t) + " refers to vertex " + std::to_string(tri[k]) + " of " +
+                                 std::to_string(mesh.vertices.size()));
+  }
+}
+
 inline triangle_mesh parse_stl_binary(const std::string& path, const std::vector<unsigned char>& bytes) {
   if (bytes.size() < 84)
     throw io_error(path, "is not an STL file: " + std::to_string(bytes.size()) +
@@ -243,6 +255,7 @@ inline triangle_mesh read_stl(const std::string& path) { return parse_stl(path, 
  */
 inline void write_stl(const std::string& path, const triangle_mesh& mesh) {
   if (mesh.triangles.size() > 0xFFFFFFFFu) throw io_error(path, "binary STL holds at most 2^32 - 1 triangles");
+  detail::check_vertex_indices(path, mesh);
   std::vector<unsigned char> out(84 + 50 * mesh.triangles.size(), 0);
   const char head[] = "binary STL written by geovoronoi";
   std::memcpy(out.data(), head, sizeof head - 1);
@@ -258,10 +271,6 @@ inline void write_stl(const std::string& path, const triangle_mesh& mesh) {
   put32(80, static_cast<std::uint32_t>(mesh.triangles.size()));
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
-    for (int k = 0; k < 3; ++k)
-      if (tri[k] >= mesh.vertices.size())
-        throw io_error(path, "triangle " + std::to_string(t) + " refers to vertex " + std::to_string(tri[k]) + " of " +
-                                 std::to_string(mesh.vertices.size()));
     const auto &a = mesh.vertices[tri[0]], &b = mesh.vertices[tri[1]], &c = mesh.vertices[tri[2]];
     double n[3] = {(b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]),
                    (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]),
