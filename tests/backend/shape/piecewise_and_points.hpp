@@ -58,6 +58,7 @@ void piecewise_case(std::mt19937_64& rng, int trial) {
   if (seeds.size() < 2) return;
   const auto d = gv::voronoi(gv::seq, p, seeds);
   if (!gv::detail::shape::piecewise_tables<decltype(p)>(gv::seq, p).empty()) ++piecewise_engaged;
+  inserted_diagrams<std::decay_t<decltype(p)>> inserted(p, seeds);
   for (const bool laplace : {false, true}) {
     const int k = 8;
     const auto m = laplace ? gv::shape_method::laplace : gv::shape_method::sibson;
@@ -68,7 +69,7 @@ void piecewise_case(std::mt19937_64& rng, int trial) {
     check_properties(w, d, what);
     gv::index_t bad = -1;
     for (gv::index_t q = 0; q < g.size() && bad < 0; ++q) {
-      const auto expect = brute_force(p, d, seeds, q, laplace, k);
+      const auto expect = brute_force(p, d, inserted, q, laplace, k);
       const std::size_t at = std::size_t(q) * std::size_t(k);
       for (int s = 0; s < k; ++s) {
         const bool has = std::size_t(s) < expect.size();

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -36,21 +37,46 @@ auto compute(const P& p, const gv::diagram<typename P::value_type, P::dim>& d, g
   return gv::shape_functions(GEOVORONOI_SHAPE_POLICY(), p, d, o);
 }
 
+/// The diagrams of @p seeds plus one query voxel, solved once per voxel (on first use) and kept, so that
+/// the brute-force rows of every method and K at that voxel share one solve.
+template <class P>
+class inserted_diagrams {
+ public:
+  using diagram_type = gv::diagram<typename P::value_type, P::dim>;
+  inserted_diagrams(const P& p, const std::vector<gv::coord<P::dim>>& seeds)
+      : p_(p), seeds_(seeds), solved_(std::size_t(p.geometry.size())) {}
+  const diagram_type& operator()(gv::index_t q) {
+    auto& slot = solved_[std::size_t(q)];
+    if (!slot) {
+      auto with_q = seeds_;
+      with_q.push_back(p_.geometry.coords(q));
+      slot = std::make_unique<diagram_type>(gv::voronoi(gv::seq, p_, with_q));
+    }
+    return *slot;
+  }
+  const std::vector<gv::coord<P::dim>>& seeds() const { return seeds_; }
+
+ private:
+  const P& p_;
+  std::vector<gv::coord<P::dim>> seeds_;
+  std::vector<std::unique_ptr<diagram_type>> solved_;
+};
+
 /// Slot arrays of one voxel by the brute-force definition (same arithmetic as the library: raw weights
 /// in double, K heaviest by (raw desc, node asc), sum in slot order, raw / sum rounded to T).
+/// @p inserted holds the diagram with the query added as an extra seed (voronoi(seq, ...) on n + 1 seeds).
 template <class P>
 std::vector<std::pair<gv::label_t, typename P::value_type>> brute_force(
-    const P& p, const gv::diagram<typename P::value_type, P::dim>& d, const std::vector<gv::coord<P::dim>>& seeds,
+    const P& p, const gv::diagram<typename P::value_type, P::dim>& d, inserted_diagrams<P>& inserted,
     gv::index_t q, bool laplace, int k) {
   using T = typename P::value_type;
   constexpr int Dim = P::dim;
   const auto& g = p.geometry;
+  const auto& seeds = inserted.seeds();
   std::vector<std::pair<gv::label_t, T>> out;
   if (d.label[q] == gv::no_label) return out;
   if (d.distance[q] == T(0)) return {{d.label[q], T(1)}};
-  auto with_q = seeds;
-  with_q.push_back(g.coords(q));
-  const auto d2 = gv::voronoi(gv::seq, p, with_q);
+  const auto& d2 = inserted(q);
   const gv::label_t qn = gv::label_t(seeds.size());
   const std::size_t n = seeds.size();
   std::vector<long> volume(n, 0), faces(n * 3, 0);
@@ -205,6 +231,7 @@ void brute_force_body(std::mt19937_64& rng, int trial, int field, const P& p) {
   const auto seeds = random_seeds(rng, p, 2 + int(rng() % 5));
   if (seeds.size() < 2) return;
   const auto d = gv::voronoi(gv::seq, p, seeds);
+  inserted_diagrams<P> inserted(p, seeds);
   for (const bool laplace : {false, true})
     for (const int k : {8, 2}) {
       const auto m = laplace ? gv::shape_method::laplace : gv::shape_method::sibson;
@@ -215,7 +242,7 @@ void brute_force_body(std::mt19937_64& rng, int trial, int field, const P& p) {
       check_properties(w, d, what);
       gv::index_t bad = -1;
       for (gv::index_t q = 0; q < g.size() && bad < 0; ++q) {
-        const auto expect = brute_force(p, d, seeds, q, laplace, k);
+        const auto expect = brute_force(p, d, inserted, q, laplace, k);
         const std::size_t at = std::size_t(q) * std::size_t(k);
         for (int s = 0; s < k; ++s) {
           const bool has = std::size_t(s) < expect.size();
