@@ -70,8 +70,9 @@ branching_cut_run<T> cut_branching(const branching_key& key, gv::image_view<cons
     shape_kept = *shape;
     shape_kept.keep_update_state = shape->method == gv::shape_method::distance_ratio;
   }
-  branching_extras x;
-  x.shape = shape ? &shape_kept : nullptr;
+  branching_extras kept, plain;  // the weights before (with the state), the recompute's (as the user's run)
+  kept.shape = shape ? &shape_kept : nullptr;
+  plain.shape = shape;
   with_connectivity<3>(check_connectivity(key.connectivity, 3), [&](auto conn) {
     constexpr int N = decltype(conn)::size;
     const auto before_grid = grid_of<T, N>(fine, key.factor, key.reduction);
@@ -83,13 +84,13 @@ branching_cut_run<T> cut_branching(const branching_key& key, gv::image_view<cons
         const auto before_p = gv::make_problem(before_grid, metric);
         const auto after_p = gv::make_problem(after_grid, metric);
         detail::solve_into(run.before, before_grid, before_p, policy, seeds, opt);
-        weights_into(run.before, before_grid, before_p, policy, x);
+        weights_into(run.before, before_grid, before_p, policy, kept);
         // the full recompute on the cut grid
         t0 = std::chrono::steady_clock::now();
         detail::solve_into(run.full, after_grid, after_p, policy, seeds, opt);
         run.recompute_seconds = since(t0);
         t0 = std::chrono::steady_clock::now();
-        weights_into(run.full, after_grid, after_p, policy, x);
+        weights_into(run.full, after_grid, after_p, policy, plain);
         run.shape_recompute_seconds = since(t0);
         // the library's incremental update from the diagram (and weights) before
         gv::update_stats st;
