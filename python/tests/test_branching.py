@@ -300,9 +300,12 @@ def test_shape_functions_at_fine_voxels_and_world_points():
     at = gv.shape_functions(f, seeds, method="laplace", coarsen=4, points=pts, spacing=spacing, origin=origin)
     assert _same_csr(at, full.fine[np.ravel_multi_index(tuple(pts.T), f.shape)])
     assert at[[2]].nnz == 0
-    world = np.asarray(origin) + pts * np.asarray(spacing) + 0.2 * np.asarray(spacing)
-    aw, idx, wt = gv.shape_functions(f, seeds, method="laplace", coarsen=4, points=world, world=True,
-                                     spacing=spacing, origin=origin, fixed_k=True)
+    # world=True: the seeds and the points are world points (each off its voxel centre by 0.2 voxel)
+    def to_world(v):
+        return np.asarray(origin) + np.asarray(v) * np.asarray(spacing) + 0.2 * np.asarray(spacing)
+
+    aw, idx, wt = gv.shape_functions(f, to_world(seeds), method="laplace", coarsen=4, points=to_world(pts),
+                                     world=True, spacing=spacing, origin=origin, fixed_k=True)
     assert _same_csr(aw, at) and idx.shape == (4, 4) and wt.shape == (4, 4)
     with pytest.raises(ValueError, match="outside"):
         gv.shape_functions(f, seeds, method="laplace", coarsen=4, points=[(0, 24, 0)])

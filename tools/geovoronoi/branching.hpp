@@ -98,13 +98,14 @@ branching_solution<T> solve_branching_shapes(const branching_key& key, gv::image
 /// `cut --coarsen N`: the run without the cut (@p before), the library's incremental update of its
 /// diagram (update()) and, with shape options, of its weights (update_shape_functions()) after the fine
 /// cut edges (@p updated), and a full recompute on the cut grid (@p full): the times of each, the
-/// copies before and after the cut, the copies the update re-solved.
+/// copies before and after the cut, the update's statistics.
 template <class T>
 struct branching_cut_run {
   branching_solution<T> before, updated, full;
   double grid_seconds = 0, update_seconds = 0, recompute_seconds = 0, shape_update_seconds = 0,
          shape_recompute_seconds = 0;
-  std::size_t copies_before = 0, copies_after = 0, invalidated = 0;
+  std::size_t copies_before = 0, copies_after = 0;
+  gv::update_stats stats;  ///< update()'s: changed copies (cut_tree_edges), invalidated, settled
 };
 template <class T>
 branching_cut_run<T> cut_branching(const branching_key& key, gv::image_view<const T, 3> fine,

@@ -93,16 +93,14 @@ branching_cut_run<T> cut_branching(const branching_key& key, gv::image_view<cons
         weights_into(run.full, after_grid, after_p, policy, plain);
         run.shape_recompute_seconds = since(t0);
         // the library's incremental update from the diagram (and weights) before
-        gv::update_stats st;
         t0 = std::chrono::steady_clock::now();
-        run.updated.copies = gv::update(policy, after_p, before_grid, run.before.copies, seeds, &st);
+        run.updated.copies = gv::update(policy, after_p, before_grid, run.before.copies, seeds, &run.stats);
         run.update_seconds = since(t0);
         run.updated.fine = gv::paint_fine(after_grid, run.updated.copies);
         for (const auto& s : seeds) run.updated.fine.seeds.push_back(after_grid.fine().index(s));
         run.updated.grid = detail::arrays_of(after_grid);
         run.copies_before = std::size_t(before_grid.copies());
         run.copies_after = std::size_t(after_grid.copies());
-        run.invalidated = st.invalidated;
         if (shape) {
           t0 = std::chrono::steady_clock::now();
           run.updated.weights = gv::update_shape_functions(policy, after_p, before_grid, run.before.copies,

@@ -273,8 +273,10 @@ void cut_branching_in(const job& j, const shape_args* shape, output_dir& out, pr
               "from %zu to %zu copies; %zu fine voxels changed\n",
               j.cut_edges, j.cut_paths.size(), j.coarsen, r.copies_before, r.copies_after, n_changed);
   std::printf("  cut grid           %9.4f s  (make_branching_grid() with the cut)\n", r.grid_seconds);
-  std::printf("  incremental update %9.4f s  (library update() on backend %s; %zu of %zu copies re-solved)\n",
-              r.update_seconds, j.solver->name, r.invalidated, r.copies_after);
+  std::printf("  incremental update %9.4f s  (library update() on backend %s; %zu copies changed by the cut, %zu "
+              "below them invalidated, %zu of %zu settled again)\n",
+              r.update_seconds, j.solver->name, r.stats.cut_tree_edges, r.stats.invalidated, r.stats.settled,
+              r.copies_after);
   std::printf("  full recompute     %9.4f s  (voronoi() on the cut grid, backend %s, with parents)  %.1fx; identical "
               "bit for bit (distance, label, parent of every copy)\n",
               r.recompute_seconds, j.solver->name, r.update_seconds > 0 ? r.recompute_seconds / r.update_seconds : 0.0);
