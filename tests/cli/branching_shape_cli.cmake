@@ -4,6 +4,7 @@
 # `cut --coarsen N --cut MESH [--method M]` (before/ and after/ equal to runs without and with the cut,
 # the update's lines, the copies the cut splits); bad inputs: one line, exit 2.
 #   cmake -DGEOVORONOI=<binary> -DWORK=<scratch folder> [-DBUILT=seq,thrust] -P branching_shape_cli.cmake
+cmake_minimum_required(VERSION 3.20)
 include(${CMAKE_CURRENT_LIST_DIR}/common.cmake)
 
 # fingers.pgm, 12 x 24 (branching_cli.cmake's): a palm (y = 0..3) and two fingers up to y = 23,
