@@ -288,7 +288,12 @@ class BranchingDiagram(NamedTuple):
     """The Voronoi diagram on a branching grid (``voronoi(..., coarsen=N)``): per copy ``distance``,
     ``label`` (seed index, -1 unreachable) and ``parent`` (copy, -1 for seeds and unreachable copies),
     ``seed_copies`` (each seed's copy); the same painted on the fine grid, ``fine_distance`` and
-    ``fine_label`` (``[z, y, x]``, +inf / -1 outside the material); and the ``grid``."""
+    ``fine_label`` (``[z, y, x]``, +inf / -1 outside the material); and the ``grid``. What
+    :func:`update` needs to update it after a cut: ``seeds`` (the seeds as fine voxels, ``[z, y, x]``),
+    the fine grid's ``spacing``, ``origin`` and ``orientation``, the ``metric``, the ``cut`` it was
+    solved with (None: none); ``stats``: for a diagram returned by :func:`update`, what the update did
+    (``changed``: copies of the cells the cut changed, ``invalidated``: copies below them in the
+    shortest-path forest, ``settled``: copies the re-solve settled); None for a solve."""
 
     grid: BranchingGrid
     distance: np.ndarray
@@ -297,6 +302,13 @@ class BranchingDiagram(NamedTuple):
     seed_copies: np.ndarray
     fine_distance: np.ndarray
     fine_label: np.ndarray
+    seeds: Optional[np.ndarray] = None
+    spacing: Optional[Tuple[float, float, float]] = None
+    origin: Optional[Tuple[float, float, float]] = None
+    orientation: Optional[np.ndarray] = None
+    metric: Optional[str] = None
+    cut: Optional["Cut"] = None
+    stats: Optional[dict] = None
 
 
 class BranchingWeights(NamedTuple):
@@ -370,10 +382,10 @@ def _check_material_seeds(f: np.ndarray, s: np.ndarray) -> None:
                          f"value {values[i]}), where the branching grid has no copy")
 
 
-def _branching_diagram(d: dict) -> BranchingDiagram:
+def _branching_diagram(d: dict, seeds: np.ndarray, sp, org, orient, m: str, cut: Optional["Cut"]) -> BranchingDiagram:
     d = {name: value for name, value in d.items() if name not in ("copy_weights", "fine_weights", "at")}
     d["grid"] = BranchingGrid(**d["grid"])
-    return BranchingDiagram(**d)
+    return BranchingDiagram(**d, seeds=seeds, spacing=sp, origin=org, orientation=orient, metric=m, cut=cut)
 
 
 def _branching_voronoi(f: np.ndarray, s: np.ndarray, sp, org, orient, m: str, conn: int, b: str, nthreads: int,
@@ -383,7 +395,7 @@ def _branching_voronoi(f: np.ndarray, s: np.ndarray, sp, org, orient, m: str, co
         _check_cut(cut, f.shape, sp, org, orient, conn)
     d = _ext._branching_voronoi(f, list(sp), list(org), [float(v) for v in np.ravel(orient)], factor, conn,
                                 _reduction(reduction), m, b, nthreads, s, cb, None if cut is None else cut._handle)
-    return _branching_diagram(d)
+    return _branching_diagram(d, s, sp, org, orient, m, cut)
 
 
 def _field_array(field: Any) -> np.ndarray:
@@ -872,7 +884,8 @@ def _branching_shape_functions(field: Any, seeds: Any, method: str, k: int, poin
     copies = scipy.sparse.csr_array((data, indices, indptr), shape=(node.shape[0], int(nodes)))
     fdata, findices, findptr, _, fine_node, fine_weight = d["fine_weights"]
     fine = scipy.sparse.csr_array((fdata, findices, findptr), shape=(f.size, int(nodes)))
-    return BranchingWeights(_branching_diagram(d), copies, node, weight, fine, fine_node, fine_weight)
+    return BranchingWeights(_branching_diagram(d, s, sp, org, orient, m, cut), copies, node, weight, fine, fine_node,
+                            fine_weight)
 
 
 def interpolate(weights: Any, nodal_values: Any, *, shape: Optional[Sequence[int]] = None) -> np.ndarray:
@@ -1319,8 +1332,31 @@ def _field_like(field: Any, d: Diagram, what: str) -> np.ndarray:
     return f
 
 
-def update(diagram: Diagram, field_after: Any, *, cut: Optional[Cut] = None, carved: Any = None, added: Any = None,
-           restiffened: Any = None, nodes: Optional[Sequence[tuple]] = None) -> Diagram:
+def _branching_update(d: BranchingDiagram, field: Any, cut: Optional[Cut]) -> BranchingDiagram:
+    """update() of a BranchingDiagram after a cut of its fine image (the library's update on branching grids)."""
+    if d.seeds is None:
+        raise ValueError("geovoronoi: this BranchingDiagram does not carry its seeds; solve it with voronoi(..., coarsen=N)")
+    if cut is None:
+        raise ValueError("geovoronoi: update() of a BranchingDiagram takes a cut= (a Cut of the fine grid) and no other "
+                         "change")
+    f = _field_array(field)
+    if f.shape != d.fine_label.shape or f.dtype != d.distance.dtype:
+        raise ValueError(f"geovoronoi: the field ({f.shape}, {f.dtype}) is not the one the diagram was solved on "
+                         f"({d.fine_label.shape}, {d.distance.dtype})")
+    g = d.grid
+    _check_cut(cut, f.shape, d.spacing, d.origin, d.orientation, g.connectivity)
+    all_cuts = cut if d.cut is None else d.cut.merge(cut)
+    r = _ext._branching_update(f, list(d.spacing), list(d.origin), [float(v) for v in np.ravel(d.orientation)],
+                               g.factor, g.connectivity, g.reduction, d.metric, "seq", 0,
+                               d.seeds, None if d.cut is None else d.cut._handle, all_cuts._handle, d.distance,
+                               d.label, d.parent, d.seed_copies)
+    stats = r.pop("stats")
+    return _branching_diagram(r, d.seeds, d.spacing, d.origin, d.orientation, d.metric, all_cuts)._replace(stats=stats)
+
+
+def update(diagram: Union[Diagram, BranchingDiagram], field_after: Any, *, cut: Optional[Cut] = None,
+           carved: Any = None, added: Any = None, restiffened: Any = None,
+           nodes: Optional[Sequence[tuple]] = None) -> Union[Diagram, BranchingDiagram]:
     """The diagram after a change of its problem, bitwise equal to a full solve of the changed
     problem, in work proportional to the region that changes (the library's ``update``).
 
@@ -1329,9 +1365,15 @@ def update(diagram: Diagram, field_after: Any, *, cut: Optional[Cut] = None, car
     (distances, labels, parents), where ``all_cuts`` is ``diagram.cut`` merged with ``cut`` and
     ``new_seeds`` is ``diagram.seeds`` with the node edits applied.
 
+    A :class:`BranchingDiagram` (``voronoi(..., coarsen=N)``) takes a ``cut`` only (a Cut of the fine
+    grid; no other change): the cut splits the copies of the cells it crosses, and the result, a
+    BranchingDiagram on the cut grid (``result.cut``: every cut so far; ``result.stats``), equals
+    ``voronoi(field, diagram.seeds, coarsen=N, cut=all_cuts, ...)`` bit for bit (the library's
+    update on branching grids, docs/branching.md).
+
     Parameters
     ----------
-    diagram : Diagram
+    diagram : Diagram or BranchingDiagram
         Computed with ``parent=True`` (the update follows its shortest-path tree), by
         :func:`voronoi` or by an earlier :func:`update`. It is not modified.
     field_after : array_like
@@ -1375,6 +1417,11 @@ def update(diagram: Diagram, field_after: Any, *, cut: Optional[Cut] = None, car
     The update is the library's single-threaded host algorithm (the same for every backend); the
     GIL is released while it runs. It reports no progress.
     """
+    if isinstance(diagram, BranchingDiagram):
+        if carved is not None or added is not None or restiffened is not None or nodes is not None:
+            raise ValueError("geovoronoi: update() of a BranchingDiagram takes a cut= only (no carved, added, "
+                             "restiffened or nodes)")
+        return _branching_update(diagram, field_after, cut)
     if not isinstance(diagram, Diagram):
         raise TypeError(f"geovoronoi: update needs a Diagram, got {type(diagram).__name__}")
     d = diagram

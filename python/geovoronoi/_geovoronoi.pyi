@@ -28,6 +28,11 @@ def _branching_voronoi(field: npt.NDArray[np.floating], spacing: Sequence[float]
                        orientation: Sequence[float], factor: int, connectivity: int, reduction: str, metric: str,
                        backend: str, threads: int, seeds: npt.NDArray[np.int64],
                        progress: Optional[Callable[[float], Any]], cut: Optional[_CutHandle] = None) -> dict: ...
+def _branching_update(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float],
+                      orientation: Sequence[float], factor: int, connectivity: int, reduction: str, metric: str,
+                      backend: str, threads: int, seeds: npt.NDArray[np.int64], before_cut: Optional[_CutHandle],
+                      all: _CutHandle, distance: npt.NDArray[np.floating], label: npt.NDArray[np.int32],
+                      parent: npt.NDArray[np.int64], seed_copies: npt.NDArray[np.int64]) -> dict: ...
 def _branching_shape_functions(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float],
                                orientation: Sequence[float], factor: int, connectivity: int, reduction: str,
                                metric: str, backend: str, threads: int, seeds: npt.NDArray[np.int64], method: str,

@@ -411,6 +411,15 @@ nb::object branching_shape_entry(in_array field, std::vector<double> spacing, st
                                  std::string metric, std::string backend, int threads, in_array seeds,
                                  std::string method, int k, nb::object progress, std::optional<in_array> points,
                                  std::optional<cut_handle> cut);
+/// update(branching_diagram, field, cut=) (branching.cpp): the library's update() of the diagram per
+/// copy (@p distance, @p label, @p parent, @p seed_copies) of @p seeds on the grid cut by @p before_cut
+/// onto the grid cut by @p all (the cuts before and the new one): the dict of branching_voronoi_entry()
+/// and "stats".
+nb::object branching_update_entry(in_array field, std::vector<double> spacing, std::vector<double> origin,
+                                  std::vector<double> orientation, int factor, int connectivity, std::string reduction,
+                                  std::string metric, std::string backend, int threads, in_array seeds,
+                                  std::optional<cut_handle> before_cut, cut_handle all, in_array distance,
+                                  in_array label, in_array parent, in_array seed_copies);
 /// shape_functions() (or shape_functions_at() with points) on diagram @p h (with its cut edges).
 nb::object shape_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
                        int connectivity, std::string backend, int threads, diagram_handle& h, std::string method, int k,

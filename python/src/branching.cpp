@@ -220,4 +220,73 @@ nb::object branching_shape_entry(in_array field, std::vector<double> spacing, st
   return branching_run(field, g, key, threads, seeds, progress, req);
 }
 
+namespace {
+/// A NumPy vector of @p n elements of type V, copied.
+template <class V>
+std::vector<V> vector_of(const in_array& a, std::size_t n, const char* what) {
+  if (a.ndim() != 1 || a.shape(0) != n || a.dtype() != nb::dtype<V>())
+    throw std::invalid_argument(std::string("geovoronoi: the diagram's ") + what + " array does not fit its grid");
+  const V* p = static_cast<const V*>(a.data());
+  return std::vector<V>(p, p + n);
+}
+
+template <class T>
+nb::object branching_update_impl(const in_array& field, const gv::grid<3>& g, const gvcli::branching_key& key,
+                                 int threads, const in_array& seeds, const std::optional<gv::cut_set<3>>& before_cut,
+                                 const gv::cut_set<3>& all, const in_array& distance, const in_array& label,
+                                 const in_array& parent, const in_array& seed_copies) {
+  const auto coords = seeds_to_coords<3>(g, seeds, false);
+  gv::branching_diagram<T> before;
+  const std::size_t copies = distance.ndim() == 1 ? distance.shape(0) : 0;
+  before.distance = vector_of<T>(distance, copies, "distance");
+  before.label = vector_of<label_t>(label, copies, "label");
+  before.parent = vector_of<index_t>(parent, copies, "parent");
+  before.seeds = vector_of<index_t>(seed_copies, coords.size(), "seed_copies");
+  gv::update_stats st;
+  gvcli::branching_solution<T> s;
+  {
+    nb::gil_scoped_release release;
+    thread_count_scope scope(threads);
+    const auto t0 = std::chrono::steady_clock::now();
+    s = gvcli::update_branching<T>(key, branching_view<T>(field, g), coords, before_cut ? &*before_cut : nullptr, all,
+                                   before, st);
+    last_core_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  const std::size_t after = std::size_t(s.grid.copies());
+  const std::vector<std::size_t> fine_shape{std::size_t(g.extent(2)), std::size_t(g.extent(1)), std::size_t(g.extent(0))};
+  nb::dict d;
+  d["grid"] = grid_dict(std::move(s.grid), key.connectivity, key.reduction);
+  d["distance"] = vector_to_numpy(std::move(s.copies.distance), {after});
+  d["label"] = vector_to_numpy(std::move(s.copies.label), {after});
+  d["parent"] = vector_to_numpy(std::move(s.copies.parent), {after});
+  d["seed_copies"] = vector_to_numpy(std::move(s.copies.seeds), {coords.size()});
+  d["fine_distance"] = vector_to_numpy(std::move(s.fine.distance.values()), fine_shape);
+  d["fine_label"] = vector_to_numpy(std::move(s.fine.label.values()), fine_shape);
+  nb::dict stats;
+  stats["changed"] = st.cut_tree_edges;
+  stats["invalidated"] = st.invalidated;
+  stats["settled"] = st.settled;
+  d["stats"] = stats;
+  return d;
+}
+}  // namespace
+
+nb::object branching_update_entry(in_array field, std::vector<double> spacing, std::vector<double> origin,
+                                  std::vector<double> orientation, int factor, int connectivity, std::string reduction,
+                                  std::string metric, std::string backend, int threads, in_array seeds,
+                                  std::optional<cut_handle> before_cut, cut_handle all, in_array distance,
+                                  in_array label, in_array parent, in_array seed_copies) {
+  const gv::grid<3> g = branching_field_grid(field, spacing, origin, orientation);
+  const auto key = branching_key_of(factor, connectivity, reduction, metric, backend, threads);
+  const auto before = fine_cut(before_cut, g, key.connectivity);
+  const auto after = fine_cut(all, g, key.connectivity);
+  if (!after) throw std::invalid_argument("geovoronoi: update() of a branching diagram needs a cut with edges");
+  const bool f32 = field.dtype() == nb::dtype<float>();
+  if (!f32 && field.dtype() != nb::dtype<double>()) throw nb::type_error("geovoronoi: the field must be float32 or float64");
+  return f32 ? branching_update_impl<float>(field, g, key, threads, seeds, before, *after, distance, label, parent,
+                                            seed_copies)
+             : branching_update_impl<double>(field, g, key, threads, seeds, before, *after, distance, label, parent,
+                                             seed_copies);
+}
+
 }  // namespace gvpy

@@ -408,6 +408,12 @@ NB_MODULE(_geovoronoi, m) {
         nb::arg("metric"), nb::arg("backend"), nb::arg("threads"), nb::arg("seeds").noconvert(),
         nb::arg("progress").none(), nb::arg("cut").none() = nb::none(),
         "Private: voronoi(..., coarsen=N) after the Python layer normalised its arguments.");
+  m.def("_branching_update", &branching_update_entry, nb::arg("field").noconvert(), nb::arg("spacing"),
+        nb::arg("origin"), nb::arg("orientation"), nb::arg("factor"), nb::arg("connectivity"), nb::arg("reduction"),
+        nb::arg("metric"), nb::arg("backend"), nb::arg("threads"), nb::arg("seeds").noconvert(),
+        nb::arg("before_cut").none(), nb::arg("all"), nb::arg("distance").noconvert(), nb::arg("label").noconvert(),
+        nb::arg("parent").noconvert(), nb::arg("seed_copies").noconvert(),
+        "Private: update() of a BranchingDiagram after the Python layer normalised its arguments.");
   m.def("_branching_shape_functions", &branching_shape_entry, nb::arg("field").noconvert(), nb::arg("spacing"),
         nb::arg("origin"), nb::arg("orientation"), nb::arg("factor"), nb::arg("connectivity"), nb::arg("reduction"),
         nb::arg("metric"), nb::arg("backend"), nb::arg("threads"), nb::arg("seeds").noconvert(), nb::arg("method"),

@@ -380,3 +380,32 @@ def test_shape_command_line_writes_the_api_bits(tmp_path):
     bad = subprocess.run(base + ["--backend", "cuda", "--out", str(tmp_path / "bad")], capture_output=True,
                          text=True, timeout=300)
     assert bad.returncode == 2 and "not available on branching grids" in bad.stderr
+
+
+def test_update_after_a_cut_is_the_solve_on_the_cut_grid():
+    f = fingers(count=2, rng=np.random.default_rng(3))
+    blade = gv.cut_from_mesh(np.array([[-5, -1, 1.5], [-5, 10, 1.5], [10, 10, 1.5], [10, -1, 1.5]], float),
+                             np.array([[0, 1, 2], [0, 2, 3]]), shape=f.shape, connectivity=18)
+    second = gv.cut_from_mesh(np.array([[-5, 14, 7.5], [-5, 30, 7.5], [10, 30, 7.5], [10, 14, 7.5]], float),
+                              np.array([[0, 1, 2], [0, 2, 3]]), shape=f.shape, connectivity=18)
+    seeds = [(0, 23, 0), (3, 0, 10), (1, 20, 8)]
+    for dtype in (np.float32, np.float64):
+        g = f.astype(dtype)
+        before = gv.voronoi(g, seeds, coarsen=4, connectivity=18, metric="mean_stiffness")
+        after = gv.update(before, g, cut=blade)
+        full = gv.voronoi(g, seeds, coarsen=4, connectivity=18, metric="mean_stiffness", cut=blade)
+        assert after.grid.copies == full.grid.copies > before.grid.copies
+        for name in ("distance", "fine_distance"):
+            assert np.array_equal(_bits(getattr(after, name)), _bits(getattr(full, name))), name
+        for name in ("label", "parent", "seed_copies", "fine_label"):
+            assert np.array_equal(getattr(after, name), getattr(full, name)), name
+        assert after.stats["changed"] > 0 and after.cut == blade and before.stats is None
+        # a second cut on top of the first: the cuts accumulate
+        again = gv.update(after, g, cut=second)
+        both = gv.voronoi(g, seeds, coarsen=4, connectivity=18, metric="mean_stiffness", cut=blade | second)
+        assert np.array_equal(_bits(again.distance), _bits(both.distance))
+        assert np.array_equal(again.parent, both.parent) and again.grid.copies == both.grid.copies
+    with pytest.raises(ValueError, match="cut= only"):
+        gv.update(before, g, cut=blade, carved=[(0, 0, 0)])
+    with pytest.raises(ValueError, match="takes a cut"):
+        gv.update(before, g)

@@ -107,6 +107,16 @@ struct branching_cut_run {
   std::size_t copies_before = 0, copies_after = 0;
   gv::update_stats stats;  ///< update()'s: changed copies (cut_tree_edges), invalidated, settled
 };
+/// The library's update() of the diagram @p before (per copy, with parents) of @p seeds on the grid of
+/// @p fine cut by @p before_cut (null: none) onto the grid cut by @p after_cut (every cut edge: those
+/// before and the new ones): the diagram after, per copy and painted, bit for bit a solve on the cut
+/// grid, and the update's statistics (Python's update() of a branching diagram).
+template <class T>
+branching_solution<T> update_branching(const branching_key& key, gv::image_view<const T, 3> fine,
+                                       const std::vector<gv::coord<3>>& seeds, const gv::cut_set<3>* before_cut,
+                                       const gv::cut_set<3>& after_cut, const gv::branching_diagram<T>& before,
+                                       gv::update_stats& stats);
+
 template <class T>
 branching_cut_run<T> cut_branching(const branching_key& key, gv::image_view<const T, 3> fine,
                                    const std::vector<gv::coord<3>>& seeds, const gv::solve_options& opt,

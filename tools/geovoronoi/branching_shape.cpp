@@ -115,12 +115,44 @@ branching_cut_run<T> cut_branching(const branching_key& key, gv::image_view<cons
   return run;
 }
 
+template <class T>
+branching_solution<T> update_branching(const branching_key& key, gv::image_view<const T, 3> fine,
+                                       const std::vector<gv::coord<3>>& seeds, const gv::cut_set<3>* before_cut,
+                                       const gv::cut_set<3>& after_cut, const gv::branching_diagram<T>& before,
+                                       gv::update_stats& stats) {
+  branching_solution<T> out;
+  with_branching_policy(key.backend, [](auto) {});  // a refusal before any work
+  with_connectivity<3>(check_connectivity(key.connectivity, 3), [&](auto conn) {
+    constexpr int N = decltype(conn)::size;
+    const auto before_grid = grid_of<T, N>(fine, key.factor, key.reduction, before_cut);
+    const auto after_grid = grid_of<T, N>(fine, key.factor, key.reduction, &after_cut);
+    with_metric(key.metric, [&](auto metric) {
+      const auto p = gv::make_problem(after_grid, metric);
+      with_branching_policy(key.backend, [&](auto policy) {
+        out.copies = gv::update(policy, p, before_grid, before, seeds, &stats);
+      });
+    });
+    out.fine = gv::paint_fine(after_grid, out.copies);
+    for (const auto& s : seeds) out.fine.seeds.push_back(after_grid.fine().index(s));
+    out.grid = detail::arrays_of(after_grid);
+  });
+  return out;
+}
+
 template branching_solution<float> solve_branching_shapes(const branching_key&, gv::image_view<const float, 3>,
                                                           const std::vector<gv::coord<3>>&, const gv::solve_options&,
                                                           const branching_extras&);
 template branching_solution<double> solve_branching_shapes(const branching_key&, gv::image_view<const double, 3>,
                                                            const std::vector<gv::coord<3>>&, const gv::solve_options&,
                                                            const branching_extras&);
+template branching_solution<float> update_branching(const branching_key&, gv::image_view<const float, 3>,
+                                                    const std::vector<gv::coord<3>>&, const gv::cut_set<3>*,
+                                                    const gv::cut_set<3>&, const gv::branching_diagram<float>&,
+                                                    gv::update_stats&);
+template branching_solution<double> update_branching(const branching_key&, gv::image_view<const double, 3>,
+                                                     const std::vector<gv::coord<3>>&, const gv::cut_set<3>*,
+                                                     const gv::cut_set<3>&, const gv::branching_diagram<double>&,
+                                                     gv::update_stats&);
 template branching_cut_run<float> cut_branching(const branching_key&, gv::image_view<const float, 3>,
                                                 const std::vector<gv::coord<3>>&, const gv::solve_options&,
                                                 const gv::cut_set<3>&, const gv::shape_options*);

@@ -237,9 +237,9 @@ void require_equal_copies(const branching_solution<T>& upd, const branching_solu
 /// the cut edges of --cut on the fine image: the update from the library's update() and
 /// update_shape_functions(), checked bit for bit against a full recompute on the cut grid; before/,
 /// after/ (fine-resolution files, copies.npz, copy_weights.npz), changed.mhd, cut.png,
-/// changed_weights.mhd.
+/// changed_weights.mhd. Returns the copies after the cut.
 template <class T>
-void cut_branching_in(const job& j, const shape_args* shape, output_dir& out, progress_bar& bar) {
+std::size_t cut_branching_in(const job& j, const shape_args* shape, output_dir& out, progress_bar& bar) {
   const auto& field = j.field_in<T>();
   const branching_key key{j.solver->id, j.metric, j.connectivity, j.coarsen, j.reduction};
   gv::shape_options so;
@@ -292,6 +292,7 @@ void cut_branching_in(const job& j, const shape_args* shape, output_dir& out, pr
                 r.shape_update_seconds > 0 ? r.shape_recompute_seconds / r.shape_update_seconds : 0.0);
   }
   std::fflush(stdout);
+  return r.copies_after;
 }
 
 int run(const std::vector<std::string>& args) {
@@ -315,13 +316,12 @@ int run(const std::vector<std::string>& args) {
   if (a.has("--method")) check_picture_node(shape, j);
   if (j.coarsen > 0) {  // a branching grid: the fine image's cut edges (--carve is refused by load_job)
     output_dir out(j.out, reads, "geovoronoi cut");
-    if (j.in_double)
-      cut_branching_in<double>(j, a.has("--method") ? &shape : nullptr, out, bar);
-    else
-      cut_branching_in<float>(j, a.has("--method") ? &shape : nullptr, out, bar);
+    const shape_args* sp = a.has("--method") ? &shape : nullptr;
+    const std::size_t copies =
+        j.in_double ? cut_branching_in<double>(j, sp, out, bar) : cut_branching_in<float>(j, sp, out, bar);
     out.commit();
     bar.finish();
-    summary("cut", j.geometry(), j.seeds.size(), j.solver->name, bar.seconds(), j.out);
+    branching_summary("cut", j.geometry(), j.coarsen, copies, j.seeds.size(), j.solver->name, bar.seconds(), j.out);
     return 0;
   }
   carve_box carve;  // the union of every --carve box
