@@ -92,7 +92,8 @@ struct oracle {
     for (auto [c, x] : src)
       if (x < d[std::size_t(c)]) d[std::size_t(c)] = x, q.push({x, c});
     while (!q.empty()) {
-      auto [x, a] = q.top();
+      const float x = q.top().first;
+      const gv::index_t a = q.top().second;
       q.pop();
       if (x != d[std::size_t(a)]) continue;
       links(a, [&](gv::index_t b, int k) {
