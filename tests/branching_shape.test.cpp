@@ -479,6 +479,24 @@ TEST_CASE("branching shape functions: seq and Thrust on OpenMP give the same bit
     auto o = with(m, 4);
     o.threads = 2;
     CHECK(same_bits(gv::shape_functions(gv::seq, p, d, o), gv::shape_functions(omp, p, d, o)));
+    std::vector<gv::coord<3>> pts{{0, 0, 0}, {5, 7, 3}, {15, 11, 5}};
+    const auto a = gv::shape_functions_at(gv::seq, p, d, pts, o), b = gv::shape_functions_at(omp, p, d, pts, o);
+    CHECK(a.node == b.node);
+    CHECK(a.weight == b.weight);
   }
+  // the update after a cut, with the kept state
+  gv::solve_options so;
+  so.with_parent = true;
+  const auto seeds = random_seeds(rng, bg, 4);
+  const auto dp = gv::voronoi(gv::seq, p, seeds, so);
+  const auto cg = gv::make_branching_grid(f, 2, gv::connectivity<N>{}, blade(f.geometry(), 6, 0, 8));
+  const auto pc = gv::make_problem(cg, gv::min_stiffness{});
+  auto o = with(gv::shape_method::distance_ratio, 4);
+  o.keep_update_state = true;
+  const auto w0 = gv::shape_functions(omp, p, dp, o);
+  const auto u = gv::update(omp, pc, bg, dp, seeds);
+  CHECK(same_bits(u, gv::update(gv::seq, pc, bg, dp, seeds)));
+  CHECK(same_bits(gv::update_shape_functions(omp, pc, bg, dp, u, w0, o),
+                  gv::update_shape_functions(gv::seq, pc, bg, dp, u, w0, o)));
 }
 #endif
