@@ -450,6 +450,12 @@ TEST_CASE("branching grids with a cut: the updates equal a full recompute bit fo
     const auto u1 = gv::update(gv::seq, p1, bg, d, seeds, &st);
     CHECK(same_bits(u1, full1));
     CHECK(st.settled < std::size_t(g1.copies()));
+    if (trial == 0) {
+      GV_CHECK_INVALID(gv::update(gv::seq, p1, bg, gv::voronoi(gv::seq, p, seeds), seeds), "no parents");
+      auto other = seeds;
+      std::swap(other[0], other[1]);
+      GV_CHECK_INVALID(gv::update(gv::seq, p1, bg, d, other), "not the diagram's seed");
+    }
     const auto u2 = gv::update(gv::seq, p2, g1, u1, seeds);
     CHECK(same_bits(u2, full2));
     for (auto m : methods) {

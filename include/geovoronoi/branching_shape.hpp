@@ -163,7 +163,8 @@ branching_grid<Dim, T, N> make_branching_grid(const image<T, Dim>& fine, int fac
  * @param seeds       the seeds given to that voronoi() (fine voxels or world points): a seed whose
  *                    copy the cut splits goes with the part holding its fine voxel.
  * @throws std::invalid_argument when @p before has no parents or belongs to another grid, the grids
- *         differ in anything but the cut, or a seed is invalid after the cut.
+ *         differ in their fine grid or factor, the seeds are not the diagram's, or a seed is invalid
+ *         after the cut (the cut left its copy outside the metric's domain).
  */
 template <class Policy, class T, int Dim, class Metric, int N, class Seeds>
 branching_diagram<T> update(const Policy& policy, const branching_problem<T, Dim, Metric, N>& after,

@@ -715,8 +715,18 @@ branching_diagram<T> update(const Policy&, const branching_problem<T, Dim, Metri
                             const Seeds& seeds, update_stats* stats) {
   detail::require_policy<Policy>();
   const auto m = detail::branching::map_copies(before_grid, after.grid_of());
+  const auto before_problem = make_problem(before_grid, after.metric);
   std::vector<index_t> s;
-  for (const auto& c : seeds) s.push_back(detail::branching::seed_copy(after, c, s.size()));
+  for (const auto& c : seeds) {
+    const std::size_t i = s.size();
+    if (i >= before.seeds.size() || detail::branching::seed_copy(before_problem, c, i) != before.seeds[i])
+      throw std::invalid_argument("geovoronoi::update: seed " + std::to_string(i) +
+                                  " is not the diagram's seed (give the seeds the diagram was solved with)");
+    s.push_back(detail::branching::seed_copy(after, c, i));
+  }
+  if (s.size() != before.seeds.size())
+    throw std::invalid_argument("geovoronoi::update: " + std::to_string(s.size()) + " seeds given, the diagram has " +
+                                std::to_string(before.seeds.size()));
   std::vector<index_t> sorted = s;
   std::sort(sorted.begin(), sorted.end());
   if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
