@@ -151,9 +151,10 @@ branching_grid<Dim, T, N> make_branching_grid(const image<T, Dim>& fine, int fac
  *        voronoi(policy, after, seeds, {with_parent = true}) (copies numbered as in the grid after).
  *
  * Copies of cells the cut did not change keep their keys where their shortest-path tree is intact;
- * the subtrees hanging from changed copies or removed links are solved again (the algorithm of
- * update.hpp on the copy graph). Work: the changed cells, the invalidated subtrees and their
- * neighbours, plus one pass over the copies to renumber them.
+ * the subtrees hanging from the changed cells' copies are solved again by the shared engine, and keys
+ * may be lowered anywhere (update.hpp's argument on the copy graph). Work: the changed cells, the
+ * invalidated subtrees and the copies whose key changes, with their neighbours, plus passes over the
+ * copies that compare the two grids and renumber the result.
  *
  * @param after       the problem on the grid built with the cut (make_branching_grid(..., cut)), from
  *                    the same fine image, factor and connectivity as @p before_grid.
@@ -162,7 +163,8 @@ branching_grid<Dim, T, N> make_branching_grid(const image<T, Dim>& fine, int fac
  * @param seeds       the seeds given to that voronoi() (fine voxels or world points): a seed whose
  *                    copy the cut splits goes with the part holding its fine voxel.
  * @throws std::invalid_argument when @p before has no parents or belongs to another grid, the grids
- *         differ in anything but the cut, or a seed is invalid after the cut.
+ *         differ in their fine grid or factor, the seeds are not the diagram's, or a seed is invalid
+ *         after the cut (the cut left its copy outside the metric's domain).
  */
 template <class Policy, class T, int Dim, class Metric, int N, class Seeds>
 branching_diagram<T> update(const Policy& policy, const branching_problem<T, Dim, Metric, N>& after,
@@ -173,11 +175,11 @@ branching_diagram<T> update(const Policy& policy, const branching_problem<T, Dim
  * @brief The weights on the grid after a cut, from the weights before it: bit for bit
  *        shape_functions(policy, after, after_diagram, opt).
  *
- * Distance Ratio reuses, with shape_options::keep_update_state in @p before_weights, the searches of
- * every node whose support holds no changed copy and whose cell did not change; the other nodes run
- * again. Sibson and Laplace recompute the rows of the copies whose new cell may have changed: those
- * whose row names a node whose cell changed, and the copies of the changed cells. The result keeps
- * the state for the next update when opt.keep_update_state is set.
+ * Distance Ratio with shape_options::keep_update_state (the state in @p before_weights) runs the
+ * searches again only for the nodes a changed cell or a changed key can reach (docs/branching.md, "Cuts
+ * and the update"), merges again the rows their supports cover and copies the others; the result keeps
+ * the state for the next update when opt.keep_update_state is set. Sibson and Laplace, and Distance
+ * Ratio without the state, are computed on the new diagram (shape_functions()).
  *
  * @param after_diagram update(policy, after, before_grid, before_diagram, seeds).
  * @param opt           the options @p before_weights were computed with.
