@@ -4,6 +4,7 @@
 
 #include <geovoronoi/backend/seq.hpp>
 #include <geovoronoi/branching_grid.hpp>
+#include <geovoronoi/branching_shape.hpp>
 #include <geovoronoi/config.hpp>
 #include <geovoronoi/connectivity.hpp>
 #include <geovoronoi/error.hpp>

@@ -30,6 +30,7 @@ from . import _geovoronoi as _ext
 __all__ = [
     "BranchingDiagram",
     "BranchingGrid",
+    "BranchingWeights",
     "Cut",
     "Diagram",
     "Voxelization",
@@ -287,7 +288,12 @@ class BranchingDiagram(NamedTuple):
     """The Voronoi diagram on a branching grid (``voronoi(..., coarsen=N)``): per copy ``distance``,
     ``label`` (seed index, -1 unreachable) and ``parent`` (copy, -1 for seeds and unreachable copies),
     ``seed_copies`` (each seed's copy); the same painted on the fine grid, ``fine_distance`` and
-    ``fine_label`` (``[z, y, x]``, +inf / -1 outside the material); and the ``grid``."""
+    ``fine_label`` (``[z, y, x]``, +inf / -1 outside the material); and the ``grid``. What
+    :func:`update` needs to update it after a cut: ``seeds`` (the seeds as fine voxels, ``[z, y, x]``),
+    the fine grid's ``spacing``, ``origin`` and ``orientation``, the ``metric``, the ``cut`` it was
+    solved with (None: none); ``stats``: for a diagram returned by :func:`update`, what the update did
+    (``changed``: copies of the cells the cut changed, ``invalidated``: copies below them in the
+    shortest-path forest, ``settled``: copies the re-solve settled); None for a solve."""
 
     grid: BranchingGrid
     distance: np.ndarray
@@ -296,6 +302,34 @@ class BranchingDiagram(NamedTuple):
     seed_copies: np.ndarray
     fine_distance: np.ndarray
     fine_label: np.ndarray
+    seeds: Optional[np.ndarray] = None
+    spacing: Optional[Tuple[float, float, float]] = None
+    origin: Optional[Tuple[float, float, float]] = None
+    orientation: Optional[np.ndarray] = None
+    metric: Optional[str] = None
+    cut: Optional["Cut"] = None
+    stats: Optional[dict] = None
+
+
+class BranchingWeights(NamedTuple):
+    """Shape functions on a branching grid (``shape_functions(..., coarsen=N)``, docs/branching.md).
+
+    ``weights``: scipy.sparse.csr_array (copies x nodes), one row per copy in copy order (the rows
+    of :class:`BranchingGrid`'s copies); ``node`` (int32) and ``weight`` (the field's dtype), shape
+    ``(copies, k)``: the same rows in the fixed-K layout (slots by decreasing weight, empty ones -1 and
+    0). ``fine``: the rows painted on the fine grid (fine voxels x nodes, C order of the field's
+    voxels: every material voxel takes its copy's row, the others an empty row); ``fine_node`` and
+    ``fine_weight``, shape ``field.shape + (k,)``: the same in the fixed-K layout, what SOFA's weight
+    and index images hold (docs/branching.md, "SOFA layout"). ``diagram``: the
+    :class:`BranchingDiagram` the weights belong to (its ``grid`` maps copies and fine voxels)."""
+
+    diagram: BranchingDiagram
+    weights: Any
+    node: np.ndarray
+    weight: np.ndarray
+    fine: Any
+    fine_node: np.ndarray
+    fine_weight: np.ndarray
 
 
 def _factor(value: Any) -> int:
@@ -339,18 +373,29 @@ def branching_grid(field: Any, factor: int, *, connectivity: Optional[int] = Non
     return BranchingGrid(**d)
 
 
-def _branching_voronoi(f: np.ndarray, s: np.ndarray, sp, org, orient, m: str, conn: int, b: str, nthreads: int,
-                       cb, factor: int, reduction: str) -> BranchingDiagram:
+def _check_material_seeds(f: np.ndarray, s: np.ndarray) -> None:
     values = f[tuple(s.T)]
     bad = ~(values > 0)
     if np.any(bad):
         i = int(np.flatnonzero(bad)[0])
         raise ValueError(f"geovoronoi: seed {i} at {tuple(int(v) for v in s[i])} lies in empty material (field "
                          f"value {values[i]}), where the branching grid has no copy")
-    d = _ext._branching_voronoi(f, list(sp), list(org), [float(v) for v in np.ravel(orient)], factor, conn,
-                                _reduction(reduction), m, b, nthreads, s, cb)
+
+
+def _branching_diagram(d: dict, seeds: np.ndarray, sp, org, orient, m: str, cut: Optional["Cut"]) -> BranchingDiagram:
+    d = {name: value for name, value in d.items() if name not in ("copy_weights", "fine_weights", "at")}
     d["grid"] = BranchingGrid(**d["grid"])
-    return BranchingDiagram(**d)
+    return BranchingDiagram(**d, seeds=seeds, spacing=sp, origin=org, orientation=orient, metric=m, cut=cut)
+
+
+def _branching_voronoi(f: np.ndarray, s: np.ndarray, sp, org, orient, m: str, conn: int, b: str, nthreads: int,
+                       cb, factor: int, reduction: str, cut: Optional["Cut"] = None) -> BranchingDiagram:
+    _check_material_seeds(f, s)
+    if cut is not None:
+        _check_cut(cut, f.shape, sp, org, orient, conn)
+    d = _ext._branching_voronoi(f, list(sp), list(org), [float(v) for v in np.ravel(orient)], factor, conn,
+                                _reduction(reduction), m, b, nthreads, s, cb, None if cut is None else cut._handle)
+    return _branching_diagram(d, s, sp, org, orient, m, cut)
 
 
 def _field_array(field: Any) -> np.ndarray:
@@ -621,7 +666,8 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
         Solve on the branching grid of the 3D ``field`` coarsened by this factor
         (:func:`branching_grid`, docs/branching.md): seeds are fine voxels (or world points), each in
         the copy holding it; returns a :class:`BranchingDiagram` (per copy, and painted on the fine
-        grid). Not with ``cut``; ``backend="auto"`` runs ``seq``; ``parent`` is always computed.
+        grid). A ``cut`` (made for the fine grid) splits the copies of the cells it crosses before the
+        solve; ``backend="auto"`` runs ``seq``; ``parent`` is always computed.
     reduction : str
         With ``coarsen``: the copies' stiffness, one of :data:`REDUCTIONS` (default ``"mean"``).
 
@@ -660,11 +706,9 @@ def voronoi(field: Any, seeds: Any, *, spacing: Any = None, origin: Any = None, 
         mask_array = np.asarray(mask)
     s = _points(seeds, ndim, bool(world), sp, org, f.shape, "seeds", orient)
     if coarsen is not None:
-        if cut is not None:
-            raise ValueError("geovoronoi: cut= is not supported with coarsen= (branching grids) yet")
         if ndim != 3:
             raise ValueError(f"geovoronoi: coarsen= (branching grids) needs a 3D field, got {ndim} dimensions")
-        return _branching_voronoi(f, s, sp, org, orient, m, conn, b, nthreads, cb, _factor(coarsen), reduction)
+        return _branching_voronoi(f, s, sp, org, orient, m, conn, b, nthreads, cb, _factor(coarsen), reduction, cut)
     _check_seeds(f, s, m)
     if cut is not None:
         _check_cut(cut, f.shape, sp, org, orient, conn)
@@ -678,7 +722,8 @@ def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 
                     metric: Optional[str] = None, connectivity: Optional[int] = None, mask: Any = None,
                     backend: str = "auto", threads: Optional[int] = None,
                     progress: Optional[Callable[[float], Any]] = None, fixed_k: bool = False,
-                    batch_size: int = 4096, cut: Optional["Cut"] = None, keep_state: bool = False):
+                    batch_size: int = 4096, cut: Optional["Cut"] = None, keep_state: bool = False,
+                    coarsen: Optional[int] = None, reduction: str = "mean"):
     """Voronoi shape functions of the nodes (the seeds) at every voxel, or at ``points``.
 
     Parameters
@@ -720,6 +765,17 @@ def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 
         (the nodes' searches), which :func:`update_shape_functions` takes as ``state=`` to update
         the weights after a cut or a field edit in a fraction of the time (see ShapeState for its
         memory). The weights are the same either way.
+    coarsen : int, optional
+        The weights on the branching grid of the 3D ``field`` coarsened by this factor (as
+        ``voronoi(..., coarsen=N)``, docs/branching.md), from seeds (fine voxels, or world points with
+        ``world=True``; not a Diagram): returns a :class:`BranchingWeights` (one row per copy, and the
+        rows painted on the fine grid). With ``points`` (fine voxels, or world points with
+        ``world=True``): the rows of the copies holding them, as without ``coarsen`` (a point in
+        empty material gets an empty row). ``cut``: made for the fine grid, it splits the copies of
+        the cells it crosses. ``backend="auto"`` runs ``seq``; ``batch_size`` does not apply.
+        ``coarsen=1`` gives the regular weights bit for bit.
+    reduction : str
+        With ``coarsen``: the copies' stiffness, one of :data:`REDUCTIONS` (default ``"mean"``).
 
     Other parameters are those of :func:`voronoi`.
 
@@ -728,11 +784,19 @@ def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 
     scipy.sparse.csr_array, shape (voxels or points, nodes)
         Rows in C order of the field's voxels (``np.ravel_multi_index``), weights in the field's
         dtype; rows sum to 1 inside the domain, empty outside. With ``fixed_k=True``:
-        ``(csr, indices, weights)``. With ``keep_state=True``: a pair (that, ShapeState).
+        ``(csr, indices, weights)``. With ``keep_state=True``: a pair (that, ShapeState). With
+        ``coarsen`` and no ``points``: a :class:`BranchingWeights`.
     """
     import scipy.sparse
 
     method, k, batch_size = _shape_options(method, k, batch_size)
+    if coarsen is not None:
+        if keep_state:
+            raise ValueError("geovoronoi: keep_state=True is not available with coarsen= (branching grids)")
+        return _branching_shape_functions(field, seeds_or_diagram, method, k, points, bool(world), spacing, origin,
+                                          orientation, metric, connectivity, mask, backend, threads,
+                                          _progress(progress), bool(fixed_k), cut, _factor(coarsen),
+                                          _reduction(reduction))
     keep_state = bool(keep_state)
     if keep_state and (method != "distance_ratio" or points is not None or not isinstance(seeds_or_diagram, Diagram)):
         raise ValueError("geovoronoi: keep_state=True needs method='distance_ratio', no points, and a Diagram "
@@ -778,6 +842,50 @@ def shape_functions(field: Any, seeds_or_diagram: Any, *, method: str, k: int = 
     w = scipy.sparse.csr_array((data, indices, indptr), shape=(f.size if qp is None else len(qp), int(nodes)))
     res = (w, fixed_idx, fixed_w) if fixed_k else w
     return (res, ShapeState(handle, d)) if keep_state else res
+
+
+def _branching_shape_functions(field: Any, seeds: Any, method: str, k: int, points: Any, world: bool, spacing: Any,
+                               origin: Any, orientation: Any, metric: Optional[str], connectivity: Any, mask: Any,
+                               backend: Any, threads: Any, cb, fixed_k: bool, cut: Optional["Cut"], factor: int,
+                               reduction: str):
+    """shape_functions(..., coarsen=N): the arguments normalised as voronoi(..., coarsen=N) does."""
+    import scipy.sparse
+
+    if isinstance(seeds, (Diagram, BranchingDiagram)):
+        raise ValueError("geovoronoi: coarsen= takes the seeds (fine voxels, or world points with world=True), "
+                         "not a diagram")
+    f = _field_array(field)
+    if f.ndim != 3:
+        raise ValueError(f"geovoronoi: coarsen= (branching grids) needs a 3D field, got {f.ndim} dimensions")
+    sp = _axis_tuple(spacing, 3, "spacing", 1.0)
+    _check_spacing(sp)
+    org = _axis_tuple(origin, 3, "origin", 0.0)
+    _check_origin(org)
+    orient = _orientation(orientation, 3)
+    m = _metric("min_stiffness" if metric is None else metric)
+    conn = _connectivity(connectivity, 3)
+    b = _backend(backend)
+    nthreads = _threads(threads)
+    if mask is not None:
+        f = _apply_mask(f, mask)
+    s = _points(seeds, 3, world, sp, org, f.shape, "seeds", orient)
+    _check_material_seeds(f, s)
+    if cut is not None:
+        _check_cut(cut, f.shape, sp, org, orient, conn)
+    qp = None if points is None else _points(points, 3, world, sp, org, f.shape, "points", orient)
+    d = _ext._branching_shape_functions(f, list(sp), list(org), [float(v) for v in np.ravel(orient)], factor, conn,
+                                        reduction, m, b, nthreads, s, method, k, cb, qp,
+                                        None if cut is None else cut._handle)
+    if qp is not None:
+        data, indices, indptr, nodes, fixed_idx, fixed_w = d["at"]
+        w = scipy.sparse.csr_array((data, indices, indptr), shape=(len(qp), int(nodes)))
+        return (w, fixed_idx, fixed_w) if fixed_k else w
+    data, indices, indptr, nodes, node, weight = d["copy_weights"]
+    copies = scipy.sparse.csr_array((data, indices, indptr), shape=(node.shape[0], int(nodes)))
+    fdata, findices, findptr, _, fine_node, fine_weight = d["fine_weights"]
+    fine = scipy.sparse.csr_array((fdata, findices, findptr), shape=(f.size, int(nodes)))
+    return BranchingWeights(_branching_diagram(d, s, sp, org, orient, m, cut), copies, node, weight, fine, fine_node,
+                            fine_weight)
 
 
 def interpolate(weights: Any, nodal_values: Any, *, shape: Optional[Sequence[int]] = None) -> np.ndarray:
@@ -1224,8 +1332,31 @@ def _field_like(field: Any, d: Diagram, what: str) -> np.ndarray:
     return f
 
 
-def update(diagram: Diagram, field_after: Any, *, cut: Optional[Cut] = None, carved: Any = None, added: Any = None,
-           restiffened: Any = None, nodes: Optional[Sequence[tuple]] = None) -> Diagram:
+def _branching_update(d: BranchingDiagram, field: Any, cut: Optional[Cut]) -> BranchingDiagram:
+    """update() of a BranchingDiagram after a cut of its fine image (the library's update on branching grids)."""
+    if d.seeds is None:
+        raise ValueError("geovoronoi: this BranchingDiagram does not carry its seeds; solve it with voronoi(..., coarsen=N)")
+    if cut is None:
+        raise ValueError("geovoronoi: update() of a BranchingDiagram takes a cut= (a Cut of the fine grid) and no other "
+                         "change")
+    f = _field_array(field)
+    if f.shape != d.fine_label.shape or f.dtype != d.distance.dtype:
+        raise ValueError(f"geovoronoi: the field ({f.shape}, {f.dtype}) is not the one the diagram was solved on "
+                         f"({d.fine_label.shape}, {d.distance.dtype})")
+    g = d.grid
+    _check_cut(cut, f.shape, d.spacing, d.origin, d.orientation, g.connectivity)
+    all_cuts = cut if d.cut is None else d.cut.merge(cut)
+    r = _ext._branching_update(f, list(d.spacing), list(d.origin), [float(v) for v in np.ravel(d.orientation)],
+                               g.factor, g.connectivity, g.reduction, d.metric, "seq", 0,
+                               d.seeds, None if d.cut is None else d.cut._handle, all_cuts._handle, d.distance,
+                               d.label, d.parent, d.seed_copies)
+    stats = r.pop("stats")
+    return _branching_diagram(r, d.seeds, d.spacing, d.origin, d.orientation, d.metric, all_cuts)._replace(stats=stats)
+
+
+def update(diagram: Union[Diagram, BranchingDiagram], field_after: Any, *, cut: Optional[Cut] = None,
+           carved: Any = None, added: Any = None, restiffened: Any = None,
+           nodes: Optional[Sequence[tuple]] = None) -> Union[Diagram, BranchingDiagram]:
     """The diagram after a change of its problem, bitwise equal to a full solve of the changed
     problem, in work proportional to the region that changes (the library's ``update``).
 
@@ -1234,9 +1365,15 @@ def update(diagram: Diagram, field_after: Any, *, cut: Optional[Cut] = None, car
     (distances, labels, parents), where ``all_cuts`` is ``diagram.cut`` merged with ``cut`` and
     ``new_seeds`` is ``diagram.seeds`` with the node edits applied.
 
+    A :class:`BranchingDiagram` (``voronoi(..., coarsen=N)``) takes a ``cut`` only (a Cut of the fine
+    grid; no other change): the cut splits the copies of the cells it crosses, and the result, a
+    BranchingDiagram on the cut grid (``result.cut``: every cut so far; ``result.stats``), equals
+    ``voronoi(field, diagram.seeds, coarsen=N, cut=all_cuts, ...)`` bit for bit (the library's
+    update on branching grids, docs/branching.md).
+
     Parameters
     ----------
-    diagram : Diagram
+    diagram : Diagram or BranchingDiagram
         Computed with ``parent=True`` (the update follows its shortest-path tree), by
         :func:`voronoi` or by an earlier :func:`update`. It is not modified.
     field_after : array_like
@@ -1280,6 +1417,11 @@ def update(diagram: Diagram, field_after: Any, *, cut: Optional[Cut] = None, car
     The update is the library's single-threaded host algorithm (the same for every backend); the
     GIL is released while it runs. It reports no progress.
     """
+    if isinstance(diagram, BranchingDiagram):
+        if carved is not None or added is not None or restiffened is not None or nodes is not None:
+            raise ValueError("geovoronoi: update() of a BranchingDiagram takes a cut= only (no carved, added, "
+                             "restiffened or nodes)")
+        return _branching_update(diagram, field_after, cut)
     if not isinstance(diagram, Diagram):
         raise TypeError(f"geovoronoi: update needs a Diagram, got {type(diagram).__name__}")
     d = diagram

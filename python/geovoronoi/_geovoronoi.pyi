@@ -27,7 +27,17 @@ def _branching_grid(field: npt.NDArray[np.floating], spacing: Sequence[float], o
 def _branching_voronoi(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float],
                        orientation: Sequence[float], factor: int, connectivity: int, reduction: str, metric: str,
                        backend: str, threads: int, seeds: npt.NDArray[np.int64],
-                       progress: Optional[Callable[[float], Any]]) -> dict: ...
+                       progress: Optional[Callable[[float], Any]], cut: Optional[_CutHandle] = None) -> dict: ...
+def _branching_update(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float],
+                      orientation: Sequence[float], factor: int, connectivity: int, reduction: str, metric: str,
+                      backend: str, threads: int, seeds: npt.NDArray[np.int64], before_cut: Optional[_CutHandle],
+                      all: _CutHandle, distance: npt.NDArray[np.floating], label: npt.NDArray[np.int32],
+                      parent: npt.NDArray[np.int64], seed_copies: npt.NDArray[np.int64]) -> dict: ...
+def _branching_shape_functions(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float],
+                               orientation: Sequence[float], factor: int, connectivity: int, reduction: str,
+                               metric: str, backend: str, threads: int, seeds: npt.NDArray[np.int64], method: str,
+                               k: int, progress: Optional[Callable[[float], Any]],
+                               points: Optional[npt.NDArray[np.int64]], cut: Optional[_CutHandle]) -> dict: ...
 def _update(field: npt.NDArray[np.floating], spacing: Sequence[float], origin: Sequence[float], metric: str,
             connectivity: int, before: _DiagramHandle, cut: Optional[_CutHandle], all: Optional[_CutHandle],
             carved: Optional[npt.NDArray[np.int64]], added: Optional[npt.NDArray[np.int64]],

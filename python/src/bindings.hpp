@@ -197,6 +197,15 @@ struct diagram_handle {
   cut_handle cuts;  ///< every cut edge the diagram was solved with (none: no cut)
 };
 
+/// The cut set @p s moved onto grid @p g (same extents: the solve's grid, without orientation, or a
+/// branching grid's fine grid, with it).
+template <int Dim, int N>
+gv::cut_set<Dim> rehome(const gv::cut_set<Dim>& s, const gv::grid<Dim>& g, gv::connectivity<N> conn) {
+  gv::cut_builder<Dim> b(g, conn);
+  for (const auto& e : s) b.insert_unchecked(e.voxel, e.forward);
+  return b.build();
+}
+
 /// The cut set of @p h, which must belong to the grid @p g and the connectivity @p connectivity.
 template <int Dim>
 const gv::cut_set<Dim>& cut_of(const cut_handle& h, const gv::grid<Dim>& g, int connectivity) {
@@ -389,11 +398,28 @@ nb::object voronoi_entry(in_array field, std::vector<double> spacing, std::vecto
 nb::object branching_grid_entry(in_array field, std::vector<double> spacing, std::vector<double> origin,
                                 std::vector<double> orientation, int factor, int connectivity, std::string reduction);
 /// voronoi(..., coarsen=N) (branching.cpp): a dict of the grid's arrays ("grid"), the diagram per copy
-/// and painted on the fine grid.
+/// and painted on the fine grid; with @p cut (edges of the fine grid) the grid is built with the cut.
 nb::object branching_voronoi_entry(in_array field, std::vector<double> spacing, std::vector<double> origin,
                                    std::vector<double> orientation, int factor, int connectivity, std::string reduction,
                                    std::string metric, std::string backend, int threads, in_array seeds,
-                                   nb::object progress);
+                                   nb::object progress, std::optional<cut_handle> cut);
+/// shape_functions(..., coarsen=N) (branching.cpp): the dict of branching_voronoi_entry() and the
+/// weights: "copy_weights" and "fine_weights" (weights_to_python() tuples of the rows per copy and
+/// painted on the fine grid), or "at" (the rows at @p points, fine voxels in array-axis order).
+nb::object branching_shape_entry(in_array field, std::vector<double> spacing, std::vector<double> origin,
+                                 std::vector<double> orientation, int factor, int connectivity, std::string reduction,
+                                 std::string metric, std::string backend, int threads, in_array seeds,
+                                 std::string method, int k, nb::object progress, std::optional<in_array> points,
+                                 std::optional<cut_handle> cut);
+/// update(branching_diagram, field, cut=) (branching.cpp): the library's update() of the diagram per
+/// copy (@p distance, @p label, @p parent, @p seed_copies) of @p seeds on the grid cut by @p before_cut
+/// onto the grid cut by @p all (the cuts before and the new one): the dict of branching_voronoi_entry()
+/// and "stats".
+nb::object branching_update_entry(in_array field, std::vector<double> spacing, std::vector<double> origin,
+                                  std::vector<double> orientation, int factor, int connectivity, std::string reduction,
+                                  std::string metric, std::string backend, int threads, in_array seeds,
+                                  std::optional<cut_handle> before_cut, cut_handle all, in_array distance,
+                                  in_array label, in_array parent, in_array seed_copies);
 /// shape_functions() (or shape_functions_at() with points) on diagram @p h (with its cut edges).
 nb::object shape_entry(in_array field, std::vector<double> spacing, std::vector<double> origin, std::string metric,
                        int connectivity, std::string backend, int threads, diagram_handle& h, std::string method, int k,

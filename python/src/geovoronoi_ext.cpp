@@ -21,14 +21,6 @@ using namespace gvpy;
 namespace {
 // ---- cuts -------------------------------------------------------------------------------------------
 
-/// The cut set @p s moved onto grid @p g (same extents; the solve's grid, without orientation).
-template <int Dim, int N>
-gv::cut_set<Dim> rehome(const gv::cut_set<Dim>& s, const gv::grid<Dim>& g, gv::connectivity<N> conn) {
-  gv::cut_builder<Dim> b(g, conn);
-  for (const auto& e : s) b.insert_unchecked(e.voxel, e.forward);
-  return b.build();
-}
-
 nb::dict cut_stats_dict(const gv::cut_stats& st) {
   nb::dict d;
   d["primitives"] = st.primitives;
@@ -414,7 +406,19 @@ NB_MODULE(_geovoronoi, m) {
   m.def("_branching_voronoi", &branching_voronoi_entry, nb::arg("field").noconvert(), nb::arg("spacing"),
         nb::arg("origin"), nb::arg("orientation"), nb::arg("factor"), nb::arg("connectivity"), nb::arg("reduction"),
         nb::arg("metric"), nb::arg("backend"), nb::arg("threads"), nb::arg("seeds").noconvert(),
-        nb::arg("progress").none(), "Private: voronoi(..., coarsen=N) after the Python layer normalised its arguments.");
+        nb::arg("progress").none(), nb::arg("cut").none() = nb::none(),
+        "Private: voronoi(..., coarsen=N) after the Python layer normalised its arguments.");
+  m.def("_branching_update", &branching_update_entry, nb::arg("field").noconvert(), nb::arg("spacing"),
+        nb::arg("origin"), nb::arg("orientation"), nb::arg("factor"), nb::arg("connectivity"), nb::arg("reduction"),
+        nb::arg("metric"), nb::arg("backend"), nb::arg("threads"), nb::arg("seeds").noconvert(),
+        nb::arg("before_cut").none(), nb::arg("all"), nb::arg("distance").noconvert(), nb::arg("label").noconvert(),
+        nb::arg("parent").noconvert(), nb::arg("seed_copies").noconvert(),
+        "Private: update() of a BranchingDiagram after the Python layer normalised its arguments.");
+  m.def("_branching_shape_functions", &branching_shape_entry, nb::arg("field").noconvert(), nb::arg("spacing"),
+        nb::arg("origin"), nb::arg("orientation"), nb::arg("factor"), nb::arg("connectivity"), nb::arg("reduction"),
+        nb::arg("metric"), nb::arg("backend"), nb::arg("threads"), nb::arg("seeds").noconvert(), nb::arg("method"),
+        nb::arg("k"), nb::arg("progress").none(), nb::arg("points").none(), nb::arg("cut").none(),
+        "Private: shape_functions(..., coarsen=N) after the Python layer normalised its arguments.");
   m.def("_update", &update_entry, nb::arg("field").noconvert(), nb::arg("spacing"), nb::arg("origin"),
         nb::arg("metric"), nb::arg("connectivity"), nb::arg("before"), nb::arg("cut").none(), nb::arg("all").none(),
         nb::arg("carved").none(), nb::arg("added").none(), nb::arg("restiffened").none(), nb::arg("nodes"),

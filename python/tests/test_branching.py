@@ -233,3 +233,179 @@ def test_command_line_writes_the_api_bits(tmp_path):
         assert c.returncode == 0, c.stderr
         for name in ("distance.raw", "label.raw", "copies.npz", "labels.png", "voronoi.vti"):
             assert (tmp_path / "cli" / name).read_bytes() == (tmp_path / "py" / name).read_bytes(), name
+
+
+# ---- shape functions and cuts on branching grids ------------------------------------------------------
+
+
+def _bits(a):
+    return a.view(np.uint32 if a.dtype == np.float32 else np.uint64)
+
+
+def _same_csr(a, b):
+    a, b = a.tocsr(), b.tocsr()
+    a.sort_indices()
+    b.sort_indices()
+    return (a.shape == b.shape and np.array_equal(a.indptr, b.indptr) and np.array_equal(a.indices, b.indices)
+            and np.array_equal(_bits(a.data), _bits(b.data)))
+
+
+@pytest.mark.parametrize("method", ["distance_ratio", "sibson", "laplace"])
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_shape_functions_factor_one_are_the_regular_weights(rng, method, dtype):
+    f = blobs(rng, shape=(6, 7, 8)).astype(dtype)
+    inside = np.argwhere(f > 0)
+    seeds = inside[rng.choice(len(inside), 4, replace=False)]
+    kw = dict(method=method, k=3, connectivity=18, spacing=(1.5, 1.0, 0.5), backend="seq")
+    reg = gv.shape_functions(f, seeds, **kw)
+    br = gv.shape_functions(f, seeds, coarsen=1, **kw)
+    assert isinstance(br, gv.BranchingWeights)
+    assert _same_csr(br.fine, reg)
+    # the copies are the material voxels in index order: their rows are the regular rows there
+    assert _same_csr(br.weights, reg[np.flatnonzero(f.ravel() > 0)])
+    assert br.node.shape == (br.diagram.grid.copies, 3) and br.fine_node.shape == f.shape + (3,)
+
+
+@pytest.mark.parametrize("method", ["distance_ratio", "sibson", "laplace"])
+def test_shape_functions_per_copy_and_painted(method):
+    f = fingers(count=2)  # fingers x = 0..4 and 6..10; the gap x = 5 inside the coarse cells x = 4..7
+    seeds = [(0, 23, 0), (0, 23, 10), (2, 0, 5)]  # left tip, right tip, palm
+    w = gv.shape_functions(f, seeds, method=method, coarsen=4, metric="uniform")
+    g = w.diagram.grid
+    assert w.weights.shape == (g.copies, 3) and w.fine.shape == (f.size, 3)
+    # every copy's row sums to 1; the fine images are the rows painted through fine_copy
+    np.testing.assert_allclose(np.asarray(w.weights.sum(1)).ravel(), 1, rtol=1e-5)
+    inside = g.fine_copy >= 0
+    assert np.array_equal(w.fine_node[inside], w.node[g.fine_copy[inside]])
+    assert np.array_equal(_bits(w.fine_weight[inside]), _bits(w.weight[g.fine_copy[inside]]))
+    assert np.all(w.fine_node[~inside] == -1) and np.all(w.fine_weight[~inside] == 0)
+    if "thrust" in gv.backends():
+        t = gv.shape_functions(f, seeds, method=method, coarsen=4, metric="uniform", backend="thrust")
+        assert _same_csr(t.fine, w.fine) and np.array_equal(t.node, w.node)
+    if method != "distance_ratio":
+        # natural neighbours on the copy graph: the left tip's node does not leak into the right finger
+        right = np.zeros(f.shape, bool)
+        right[:, 12:, 6:] = True
+        dense = w.fine.toarray()[:, 0].reshape(f.shape)
+        assert np.all(dense[right & inside] == 0)
+        assert dense[0, 23, 0] == 1
+
+
+def test_shape_functions_at_fine_voxels_and_world_points():
+    f = fingers(count=2)
+    seeds = [(0, 23, 0), (0, 23, 10), (2, 0, 5)]
+    spacing, origin = (1.0, 0.5, 2.0), (3.0, -1.0, 0.0)
+    full = gv.shape_functions(f, seeds, method="laplace", coarsen=4, spacing=spacing, origin=origin)
+    pts = np.array([(0, 23, 1), (3, 20, 9), (1, 10, 5), (2, 2, 2)])  # (1, 10, 5): the gap, empty material
+    at = gv.shape_functions(f, seeds, method="laplace", coarsen=4, points=pts, spacing=spacing, origin=origin)
+    assert _same_csr(at, full.fine[np.ravel_multi_index(tuple(pts.T), f.shape)])
+    assert at[[2]].nnz == 0
+    # world=True: the seeds and the points are world points (each off its voxel centre by 0.2 voxel)
+    def to_world(v):
+        return np.asarray(origin) + np.asarray(v) * np.asarray(spacing) + 0.2 * np.asarray(spacing)
+
+    aw, idx, wt = gv.shape_functions(f, to_world(seeds), method="laplace", coarsen=4, points=to_world(pts),
+                                     world=True, spacing=spacing, origin=origin, fixed_k=True)
+    assert _same_csr(aw, at) and idx.shape == (4, 4) and wt.shape == (4, 4)
+    with pytest.raises(ValueError, match="outside"):
+        gv.shape_functions(f, seeds, method="laplace", coarsen=4, points=[(0, 24, 0)])
+    with pytest.raises(ValueError, match="outside the grid"):
+        gv.shape_functions(f, seeds, method="laplace", coarsen=4, points=[(0.0, 100.0, 0.0)], world=True)
+
+
+def test_cut_splits_copies():
+    f = fingers(count=2)
+    # a blade at x = 1.5, y from -1 to 10 through every slice: inside the coarse cells x = 0..3
+    v = np.array([[-5, -1, 1.5], [-5, 10, 1.5], [10, 10, 1.5], [10, -1, 1.5]], float)  # z, y, x
+    t = np.array([[0, 1, 2], [0, 2, 3]])
+    cut = gv.cut_from_mesh(v, t, shape=f.shape, connectivity=26)
+    assert len(cut) > 0
+    seeds = [(0, 23, 0), (0, 0, 10)]
+    before = gv.voronoi(f, seeds, coarsen=4, metric="uniform")
+    after = gv.voronoi(f, seeds, coarsen=4, metric="uniform", cut=cut)
+    assert after.grid.copies > before.grid.copies
+    # behind the blade (x = 0, low y) the path from the left tip now runs around its top end
+    assert after.fine_distance[0, 0, 0] > before.fine_distance[0, 0, 0]
+    w = gv.shape_functions(f, seeds, method="sibson", coarsen=4, metric="uniform", cut=cut)
+    assert w.diagram.grid.copies == after.grid.copies
+    assert np.array_equal(_bits(w.diagram.distance), _bits(after.distance))
+    with pytest.raises(ValueError, match="cut"):
+        gv.voronoi(f[:, :20], [(0, 19, 0), (0, 0, 10)], coarsen=4, cut=cut)
+
+
+def test_shape_functions_bad_inputs():
+    f = fingers(count=2)
+    seeds = [(0, 23, 0), (0, 0, 10)]
+    d = gv.voronoi(f, seeds, coarsen=4)
+    with pytest.raises(ValueError, match="not a diagram"):
+        gv.shape_functions(f, d, method="sibson", coarsen=4)
+    with pytest.raises(ValueError, match="coarsening factor"):
+        gv.shape_functions(f, seeds, method="sibson", coarsen=0)
+    with pytest.raises(ValueError, match="keep_state"):
+        gv.shape_functions(f, seeds, method="distance_ratio", coarsen=4, keep_state=True)
+    with pytest.raises(ValueError, match="empty material"):
+        gv.shape_functions(f, [(0, 10, 5)], method="sibson", coarsen=4)
+    with pytest.raises(ValueError, match="3D"):
+        gv.shape_functions(f[0], [(0, 0)], method="sibson", coarsen=2)
+
+
+def test_shape_command_line_writes_the_api_bits(tmp_path):
+    """`python -m geovoronoi shape-functions --coarsen 4` (the tool's code) against the API."""
+    f = fingers(count=2)
+    gv.write_image(tmp_path / "fingers.mhd", f)
+    seeds = np.array([[0, 23, 0], [2, 0, 5], [1, 20, 9]])  # z, y, x
+    with open(tmp_path / "seeds.csv", "w") as fh:
+        for z, y, x in seeds:
+            fh.write(f"{x},{y},{z}\n")
+    with open(tmp_path / "at.csv", "w") as fh:
+        fh.write("0,23,0\n9,20,1\n")
+    base = [sys.executable, "-m", "geovoronoi", "shape-functions", "--stiffness", str(tmp_path / "fingers.mhd"),
+            "--seeds", str(tmp_path / "seeds.csv"), "--coarsen", "4", "--method", "sibson", "--nodes-per-voxel", "3"]
+    r = subprocess.run(base + ["--out", str(tmp_path / "py")], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    w = gv.shape_functions(f, seeds, method="sibson", k=3, coarsen=4)
+    z = np.load(tmp_path / "py" / "copy_weights.npz")
+    assert np.array_equal(z["node"], w.node) and np.array_equal(_bits(z["weight"]), _bits(w.weight))
+    assert np.array_equal(z["fine_copy"], w.diagram.grid.fine_copy)
+    assert np.array_equal(z["seed_copy"], w.diagram.seed_copies) and int(z["k"][0]) == 3
+    idx, *_ = gv.read_image(tmp_path / "py" / "indices.mhd")
+    wt, *_ = gv.read_image(tmp_path / "py" / "weights.mhd")
+    assert np.array_equal(idx.astype(np.int64) - 1, w.fine_node) and np.array_equal(_bits(wt), _bits(w.fine_weight))
+    r = subprocess.run(base + ["--at", str(tmp_path / "at.csv"), "--out", str(tmp_path / "at")], capture_output=True,
+                       text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    at = gv.shape_functions(f, seeds, method="sibson", k=3, coarsen=4, points=[(0, 23, 0), (1, 20, 9)])
+    data = np.load(tmp_path / "at" / "weights_at_data.npy")
+    assert np.array_equal(_bits(data), _bits(at.data))
+    bad = subprocess.run(base + ["--backend", "cuda", "--out", str(tmp_path / "bad")], capture_output=True,
+                         text=True, timeout=300)
+    assert bad.returncode == 2 and "not available on branching grids" in bad.stderr
+
+
+def test_update_after_a_cut_is_the_solve_on_the_cut_grid():
+    f = fingers(count=2, rng=np.random.default_rng(3))
+    blade = gv.cut_from_mesh(np.array([[-5, -1, 1.5], [-5, 10, 1.5], [10, 10, 1.5], [10, -1, 1.5]], float),
+                             np.array([[0, 1, 2], [0, 2, 3]]), shape=f.shape, connectivity=18)
+    second = gv.cut_from_mesh(np.array([[-5, 14, 7.5], [-5, 30, 7.5], [10, 30, 7.5], [10, 14, 7.5]], float),
+                              np.array([[0, 1, 2], [0, 2, 3]]), shape=f.shape, connectivity=18)
+    seeds = [(0, 23, 0), (3, 0, 10), (1, 20, 8)]
+    for dtype in (np.float32, np.float64):
+        g = f.astype(dtype)
+        before = gv.voronoi(g, seeds, coarsen=4, connectivity=18, metric="mean_stiffness")
+        after = gv.update(before, g, cut=blade)
+        full = gv.voronoi(g, seeds, coarsen=4, connectivity=18, metric="mean_stiffness", cut=blade)
+        assert after.grid.copies == full.grid.copies > before.grid.copies
+        for name in ("distance", "fine_distance"):
+            assert np.array_equal(_bits(getattr(after, name)), _bits(getattr(full, name))), name
+        for name in ("label", "parent", "seed_copies", "fine_label"):
+            assert np.array_equal(getattr(after, name), getattr(full, name)), name
+        assert after.stats["changed"] > 0 and after.cut == blade and before.stats is None
+        # a second cut on top of the first: the cuts accumulate
+        again = gv.update(after, g, cut=second)
+        both = gv.voronoi(g, seeds, coarsen=4, connectivity=18, metric="mean_stiffness", cut=blade | second)
+        assert np.array_equal(_bits(again.distance), _bits(both.distance))
+        assert np.array_equal(again.parent, both.parent) and again.grid.copies == both.grid.copies
+    with pytest.raises(ValueError, match="cut= only"):
+        gv.update(before, g, cut=blade, carved=[(0, 0, 0)])
+    with pytest.raises(ValueError, match="takes a cut"):
+        gv.update(before, g)

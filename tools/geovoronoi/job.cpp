@@ -313,14 +313,11 @@ bool load_field(job& j, const arguments& a, const std::string& precision) {
 job load_job(const arguments& a, const std::string& command) {
   job j;
   if (a.has("--coarsen") || a.has("--reduction")) {
-    const std::string o = a.has("--coarsen") ? "--coarsen" : "--reduction";
-    if (command != "voronoi")
-      throw usage_error(o + " (branching grids) is not supported by `geovoronoi " + command +
-                        "` yet; only `geovoronoi voronoi` takes it");
     if (!a.has("--coarsen")) throw usage_error("--reduction applies with --coarsen N only");
     j.coarsen = int(a.integer("--coarsen", 1, 1, 1 << 20));
     j.reduction = parse_reduction(a.get("--reduction", "mean"));
-    if (a.has("--cut")) throw usage_error("--cut is not supported with --coarsen (branching grids) yet");
+    if (command == "cut" && a.has("--carve"))
+      throw usage_error("--carve is not supported with --coarsen (branching grids); cut them with --cut MESH");
   }
   check_field_options(a);
   j.seeds_path = a.require("--seeds");
@@ -425,35 +422,25 @@ gv::diagram<T, 3> solve_diagram(const job& j, const typed_problem<T, 3>& p, cons
 template gv::diagram<float, 3> solve_diagram(const job&, const typed_problem<float, 3>&, const gv::solve_options&);
 template gv::diagram<double, 3> solve_diagram(const job&, const typed_problem<double, 3>&, const gv::solve_options&);
 
-namespace {
-
-/// copies.npz: the branching grid's copies and the diagram on them (see docs/cli.md).
-template <class T>
-void write_copies(const std::string& path, const branching_solution<T>& s) {
-  const auto& g = s.grid;
-  std::vector<std::int64_t> extent;
-  for (int a = 2; a >= 0; --a) extent.push_back(g.coarse.extent(a));
-  const std::vector<std::int64_t> factor{g.factor};
-  gio::npz_entries e;
-  e.add("cell", g.copy_cell)
-      .add("distance", s.copies.distance)
-      .add("label", s.copies.label)
-      .add("parent", s.copies.parent)
-      .add("stiffness", g.stiffness)
-      .add("voxel_count", g.voxel_count)
-      .add("link_begin", g.link_begin)
-      .add("link_copy", g.link_copy)
-      .add("link_dir", g.link_dir)
-      .add("fine_copy", g.fine_copy)
-      .add("coarse_shape", extent)
-      .add("factor", factor);
-  gio::write_npz(path, e);
+void rethrow_solve_error(const job& j) {
+  try {
+    throw;
+  } catch (const std::invalid_argument& e) {
+    throw usage_error(locate_seed_error(e.what(), j.seeds_path, j.seed_lines));
+  } catch (const gv::overflow_error& e) {
+    throw usage_error(j.field_name + ": " + library_message(e) +
+                      (j.in_double ? "" : " (on the command line: --precision double, or auto)"));
+  }
 }
 
-/// `voronoi --coarsen N`: the branching grid's diagram, painted on the fine grid for the regular
-/// outputs, and copies.npz. Returns the number of copies.
+namespace {
+
+/// A branching run (`--coarsen N`): the branching grid (split by the run's cut edges) and its diagram,
+/// painted on the fine grid for the regular outputs, and copies.npz; with @p bs's shape arguments the
+/// shape functions too: per copy (copy_weights.npz) and painted on the fine grid (the regular
+/// shape-function files), or at the points only. Returns the number of copies.
 template <class T>
-std::size_t branching_and_outputs(const job& j, output_dir& out, progress_bar& bar) {
+std::size_t branching_and_outputs(const job& j, output_dir& out, progress_bar& bar, const branching_shapes& bs) {
   bar.update("voronoi", 0.0);
   gv::solve_options opt = j.options();
   opt.progress = [&](double x) {
@@ -461,20 +448,36 @@ std::size_t branching_and_outputs(const job& j, output_dir& out, progress_bar& b
     return true;
   };
   const branching_key key{j.solver->id, j.metric, j.connectivity, j.coarsen, j.reduction};
+  gv::shape_options shape;
+  branching_extras x;
+  x.cut = j.cut_set.get();
+  if (bs.shape) {
+    shape = bs.shape->options(j);
+    shape.progress = [&](double f) {
+      bar.set_fraction(f);
+      return true;
+    };
+    x.shape = &shape;
+    x.at = bs.at && !bs.at->empty() ? bs.at : nullptr;
+  }
   const auto s = [&] {
     try {
-      return solve_branching<T>(key, view(j.field_in<T>()), j.seeds, opt);
-    } catch (const std::invalid_argument& e) {
-      throw usage_error(locate_seed_error(e.what(), j.seeds_path, j.seed_lines));
-    } catch (const gv::overflow_error& e) {
-      throw usage_error(j.field_name + ": " + library_message(e) +
-                        (std::is_same_v<T, float> ? " (on the command line: --precision double, or auto)" : ""));
+      return bs.shape ? solve_branching_shapes<T>(key, view(j.field_in<T>()), j.seeds, opt, x)
+                      : solve_branching<T>(key, view(j.field_in<T>()), j.seeds, opt, x.cut);
+    } catch (...) {
+      rethrow_solve_error(j);
     }
   }();
   require_own_voxels(s.fine, j.seeds_path, j.seed_lines);
   bar.update("writing");
   write_voronoi(out, s.fine, j.field_in<T>(), j.pictures());
   write_copies(out.subdir(".") + "/copies.npz", s);
+  if (s.has_weights) {
+    write_shape(out.subdir("."), s.fine_weights, s.fine, bs.shape->picture_node, j.pictures(),
+                method_name(bs.shape->method));
+    write_copy_weights(out.subdir(".") + "/copy_weights.npz", s);
+  }
+  if (s.has_at) write_shape_at(out.subdir("."), s.at_weights);
   return std::size_t(s.grid.copies());
 }
 
@@ -494,7 +497,8 @@ void diagram_and_outputs(const job& j, output_dir& out, progress_bar& bar, const
 }  // namespace
 
 int solve_and_write(const char* command, const arguments& a, const std::function<void(const job&)>& check,
-                    const after_diagram<float>& more_float, const after_diagram<double>& more_double) {
+                    const after_diagram<float>& more_float, const after_diagram<double>& more_double,
+                    const branching_shapes& bs) {
   progress_bar bar(std::string("geovoronoi ") + command);
   bar.update("reading");
   const gio::read_log reads;  // every file the run reads: none may lie inside --out
@@ -503,8 +507,8 @@ int solve_and_write(const char* command, const arguments& a, const std::function
   if (check) check(j);
   output_dir out(j.out, reads, std::string("geovoronoi ") + command);
   if (j.coarsen > 0) {
-    const std::size_t copies = j.in_double ? branching_and_outputs<double>(j, out, bar)
-                                           : branching_and_outputs<float>(j, out, bar);
+    const std::size_t copies = j.in_double ? branching_and_outputs<double>(j, out, bar, bs)
+                                           : branching_and_outputs<float>(j, out, bar, bs);
     out.commit();
     bar.finish();
     branching_summary(command, j.geometry(), j.coarsen, copies, j.seeds.size(), j.solver->name, bar.seconds(), j.out);

@@ -91,8 +91,8 @@ std::set<std::string> solve_flags();
 /// The options of voronoi and shape-functions that may be repeated (--cut).
 std::set<std::string> solve_repeatable();
 
-/// The job of @p a for the command @p command ("voronoi", "shape-functions", "cut"): --coarsen and
-/// --reduction are the voronoi command's only (a usage_error naming the command otherwise).
+/// The job of @p a for the command @p command ("voronoi", "shape-functions", "cut"); with --coarsen
+/// (--reduction: only with it) no regular problem is made, the branching grid is built when solving.
 job load_job(const arguments& a, const std::string& command);
 
 /// What `shape-functions` and `cut --method` read about the shape functions.
@@ -124,6 +124,19 @@ void check_picture_node(const shape_args& s, const job& j);
 template <class T>
 gv::diagram<T, 3> solve_diagram(const job& j, const typed_problem<T, 3>& p, const gv::solve_options& opt);
 
+/// Called in a catch block around a library solve of @p j (a branching run's): rethrows the library's
+/// std::invalid_argument as a usage_error naming the seed file and line (a seed outside, in empty
+/// material, two seeds in one copy), and gv::overflow_error as a usage_error suggesting --precision
+/// double; anything else as it is.
+[[noreturn]] void rethrow_solve_error(const job& j);
+
+/// What `shape-functions --coarsen N` asks of a branching run: its shape arguments and, when not null
+/// and not empty, the fine voxels of --at (filled by the command's check, before the solve).
+struct branching_shapes {
+  const shape_args* shape = nullptr;
+  const std::vector<gv::coord<3>>* at = nullptr;
+};
+
 /// What a command does after the diagram (the shape functions), in T.
 template <class T>
 using after_diagram = std::function<void(const job&, const gv::diagram<T, 3>&, output_dir&, progress_bar&)>;
@@ -131,8 +144,10 @@ using after_diagram = std::function<void(const job&, const gv::diagram<T, 3>&, o
 /// Loads the job, runs `check(job)` (a command's own checks that need the job, before any work; may
 /// be empty), solves the diagram, writes the voronoi outputs, then `more(job, diagram, out, bar)`
 /// (the shape functions; more_float or more_double by the job's precision), moves the outputs into
-/// place and prints the summary line.
+/// place and prints the summary line. A branching run (--coarsen) solves on the branching grid instead
+/// and, with @p bs's shape arguments, computes the shape functions there (`more` is not called).
 int solve_and_write(const char* command, const arguments& a, const std::function<void(const job&)>& check,
-                    const after_diagram<float>& more_float, const after_diagram<double>& more_double);
+                    const after_diagram<float>& more_float, const after_diagram<double>& more_double,
+                    const branching_shapes& bs = {});
 
 }  // namespace gvcli

@@ -131,6 +131,58 @@ void write_shape_at(const std::string& dir, const gv::point_weights<T>& w) {
   if (!ok) throw std::runtime_error(path + ": write failed");
 }
 
+namespace {
+/// The coarse grid's shape (nz, ny, nx) and the factor, as copies.npz and copy_weights.npz hold them.
+template <class T>
+void add_coarse(gio::npz_entries& e, const branching_arrays<T>& g) {
+  std::vector<std::int64_t> extent;
+  for (int a = 2; a >= 0; --a) extent.push_back(g.coarse.extent(a));
+  e.add("coarse_shape", extent).add("factor", std::vector<std::int64_t>{g.factor});
+}
+}  // namespace
+
+template <class T>
+void write_copies(const std::string& path, const branching_solution<T>& s) {
+  const auto& g = s.grid;
+  gio::npz_entries e;
+  e.add("cell", g.copy_cell)
+      .add("distance", s.copies.distance)
+      .add("label", s.copies.label)
+      .add("parent", s.copies.parent)
+      .add("stiffness", g.stiffness)
+      .add("voxel_count", g.voxel_count)
+      .add("link_begin", g.link_begin)
+      .add("link_copy", g.link_copy)
+      .add("link_dir", g.link_dir)
+      .add("fine_copy", g.fine_copy);
+  add_coarse(e, g);
+  gio::write_npz(path, e);
+}
+
+template <class T>
+void write_copy_weights(const std::string& path, const branching_solution<T>& s) {
+  const auto& g = s.grid;
+  const auto& w = s.weights;
+  gio::npz_entries e;
+  const std::vector<index_t> rows{w.copies, index_t(w.k)};
+  e.add("node", w.node.data(), rows)
+      .add("weight", w.weight.data(), rows)
+      .add("copy_cell", g.copy_cell)
+      .add("copy_voxel", g.copy_voxel)
+      .add("voxel_count", g.voxel_count)
+      .add("fine_copy", g.fine_copy)
+      .add("seed_copy", s.copies.seeds)
+      .add("k", std::vector<std::int64_t>{w.k})
+      .add("nodes", std::vector<std::int64_t>{std::int64_t(w.nodes)});
+  add_coarse(e, g);
+  gio::write_npz(path, e);
+}
+
+template void write_copies(const std::string&, const branching_solution<float>&);
+template void write_copies(const std::string&, const branching_solution<double>&);
+template void write_copy_weights(const std::string&, const branching_solution<float>&);
+template void write_copy_weights(const std::string&, const branching_solution<double>&);
+
 template void write_voronoi(const std::string&, const gv::diagram<float, 3>&, const gv::image<float, 3>&,
                             const picture_context&);
 template void write_voronoi(const std::string&, const gv::diagram<double, 3>&, const gv::image<double, 3>&,

@@ -1,6 +1,7 @@
 #pragma once
 // What the geovoronoi tool writes: the Voronoi outputs and the shape-function outputs (docs/cli.md).
 
+#include "branching.hpp"
 #include "kinds.hpp"
 #include "output_dir.hpp"
 
@@ -55,6 +56,17 @@ void write_shape(const std::string& dir, const gv::shape_weights<T, 3>& w, const
 /// data.npy (points x nodes CSR; data in T) and weights_at.csv (point,node,weight).
 template <class T>
 void write_shape_at(const std::string& dir, const gv::point_weights<T>& w);
+
+/// copies.npz at @p path: the branching grid and its diagram per copy (`--coarsen`; docs/cli.md).
+template <class T>
+void write_copies(const std::string& path, const branching_solution<T>& s);
+
+/// copy_weights.npz at @p path: the weights per copy (`shape-functions --coarsen`, the per-copy
+/// layout beside the fine images of write_shape(); docs/cli.md): node and weight (copies, K), each
+/// copy's cell, lowest fine voxel and voxel count, fine_copy, the seeds' copies, K, the nodes, the
+/// factor and the coarse grid.
+template <class T>
+void write_copy_weights(const std::string& path, const branching_solution<T>& s);
 
 /// The one summary line a command prints at the end.
 void summary(const char* what, const gv::grid<3>& g, std::size_t seeds, const std::string& backend, double seconds,

@@ -2,6 +2,7 @@
 // comes from the library's incremental update (update.hpp) and is checked, bit for bit, against a
 // full recompute of the changed problem, and both times are printed. With --method, the same for the
 // shape functions (shape_update.hpp).
+#include "../branching.hpp"
 #include "../change.hpp"
 #include "../command.hpp"
 #include "../job.hpp"
@@ -15,6 +16,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iterator>
+#include <cstring>
 #include <stdexcept>
 
 namespace gvcli {
@@ -207,6 +209,92 @@ void cut_in(const job& j, const carve_box* carve, const shape_args* shape, outpu
   }
 }
 
+/// The promise of the branching updates: @p upd equals the full recompute @p full bit for bit (per
+/// copy distance, label and parent; with weights, node and weight of every slot). A difference is a
+/// bug in the library: runtime_failure (exit 1).
+template <class T>
+void require_equal_copies(const branching_solution<T>& upd, const branching_solution<T>& full) {
+  const auto fail = [](const std::string& what) {
+    throw runtime_failure("internal error: the incremental update on the branching grid differs from the full "
+                          "recompute in " + what + "; please report this with the inputs");
+  };
+  const auto& a = upd.copies;
+  const auto& b = full.copies;
+  if (a.distance.size() != b.distance.size() || a.label != b.label || a.parent != b.parent || a.seeds != b.seeds)
+    fail("the copies' labels, parents or seeds");
+  if (std::memcmp(a.distance.data(), b.distance.data(), a.distance.size() * sizeof(T)) != 0)
+    fail("the copies' distances");
+  if (upd.has_weights != full.has_weights) fail("whether it has weights");
+  if (!full.has_weights) return;
+  const auto& u = upd.weights;
+  const auto& f = full.weights;
+  if (u.copies != f.copies || u.k != f.k || u.nodes != f.nodes || u.node != f.node || u.weight.size() != f.weight.size() ||
+      std::memcmp(u.weight.data(), f.weight.data(), u.weight.size() * sizeof(T)) != 0)
+    fail("the weights (node or weight of a slot)");
+}
+
+/// `cut --coarsen N`: the branching grid's diagram (and with --method its weights) before and after
+/// the cut edges of --cut on the fine image: the update from the library's update() and
+/// update_shape_functions(), checked bit for bit against a full recompute on the cut grid; before/,
+/// after/ (fine-resolution files, copies.npz, copy_weights.npz), changed.mhd, cut.png,
+/// changed_weights.mhd. Returns the copies after the cut.
+template <class T>
+std::size_t cut_branching_in(const job& j, const shape_args* shape, output_dir& out, progress_bar& bar) {
+  const auto& field = j.field_in<T>();
+  const branching_key key{j.solver->id, j.metric, j.connectivity, j.coarsen, j.reduction};
+  gv::shape_options so;
+  if (shape) so = shape->options(j);
+  bar.update("before, full recompute, update");
+  const auto r = [&] {
+    try {
+      return cut_branching<T>(key, gv::image_view<const T, 3>(field.geometry(), field.data()), j.seeds, j.options(),
+                              *j.cut_set, shape ? &so : nullptr);
+    } catch (...) {
+      rethrow_solve_error(j);
+    }
+  }();
+  require_equal_copies(r.updated, r.full);
+
+  bar.update("writing");
+  const auto pc = j.pictures();
+  for (const auto& [dir, s] : {std::pair<const char*, const branching_solution<T>*>{"before", &r.before},
+                               std::pair<const char*, const branching_solution<T>*>{"after", &r.updated}}) {
+    write_voronoi(out.subdir(dir), s->fine, field, pc);
+    write_copies(out.subdir(dir) + "/copies.npz", *s);
+    if (shape) {
+      write_shape(out.subdir(dir), s->fine_weights, s->fine, shape->picture_node, pc, method_name(shape->method));
+      write_copy_weights(out.subdir(dir) + "/copy_weights.npz", *s);
+    }
+  }
+  const gv::coord<3> none{-1, -1, -1};
+  const std::size_t n_changed =
+      write_change(out.subdir("."), r.before.fine, r.updated.fine, field, field, j.cut_set.get(), none, none, pc);
+  std::printf("geovoronoi cut: %zu cut edges from %zu mesh(es) on the fine grid; the branching grid (factor %d) goes "
+              "from %zu to %zu copies; %zu fine voxels changed\n",
+              j.cut_edges, j.cut_paths.size(), j.coarsen, r.copies_before, r.copies_after, n_changed);
+  std::printf("  cut grid           %9.4f s  (make_branching_grid() with the cut)\n", r.grid_seconds);
+  std::printf("  incremental update %9.4f s  (library update() on backend %s; %zu copies changed by the cut, %zu "
+              "below them invalidated, %zu of %zu settled again)\n",
+              r.update_seconds, j.solver->name, r.stats.cut_tree_edges, r.stats.invalidated, r.stats.settled,
+              r.copies_after);
+  std::printf("  full recompute     %9.4f s  (voronoi() on the cut grid, backend %s, with parents)  %.1fx; identical "
+              "bit for bit (distance, label, parent of every copy)\n",
+              r.recompute_seconds, j.solver->name, r.update_seconds > 0 ? r.recompute_seconds / r.update_seconds : 0.0);
+  if (shape) {
+    const char* method = method_name(shape->method);
+    const std::size_t n_weights = write_changed_weights(out.subdir("."), r.before.fine_weights, r.updated.fine_weights);
+    std::printf("  weights update     %9.4f s  (%s, library update_shape_functions() on backend %s; %zu fine voxels "
+                "changed)\n",
+                r.shape_update_seconds, method, j.solver->name, n_weights);
+    std::printf("  weights recompute  %9.4f s  (%s, shape_functions() on the cut grid, backend %s)  %.1fx; identical "
+                "bit for bit (node and weight of every copy's slots)\n",
+                r.shape_recompute_seconds, method, j.solver->name,
+                r.shape_update_seconds > 0 ? r.shape_recompute_seconds / r.shape_update_seconds : 0.0);
+  }
+  std::fflush(stdout);
+  return r.copies_after;
+}
+
 int run(const std::vector<std::string>& args) {
   auto names = shape_arg_options();
   names.insert("--carve");
@@ -226,6 +314,16 @@ int run(const std::vector<std::string>& args) {
   const job j = load_job(a, "cut");
   for (const auto& n : j.notes) bar.note("geovoronoi cut: " + n);
   if (a.has("--method")) check_picture_node(shape, j);
+  if (j.coarsen > 0) {  // a branching grid: the fine image's cut edges (--carve is refused by load_job)
+    output_dir out(j.out, reads, "geovoronoi cut");
+    const shape_args* sp = a.has("--method") ? &shape : nullptr;
+    const std::size_t copies =
+        j.in_double ? cut_branching_in<double>(j, sp, out, bar) : cut_branching_in<float>(j, sp, out, bar);
+    out.commit();
+    bar.finish();
+    branching_summary("cut", j.geometry(), j.coarsen, copies, j.seeds.size(), j.solver->name, bar.seconds(), j.out);
+    return 0;
+  }
   carve_box carve;  // the union of every --carve box
   carve.lo = {j.geometry().extent(0), j.geometry().extent(1), j.geometry().extent(2)};
   carve.hi = {-1, -1, -1};
@@ -290,6 +388,12 @@ const command cut_command = {
     "  --world             seeds and --carve are physical x,y,z coordinates (default: voxel indices)\n"
     "  --extrude N         repeat a .pgm/.ppm picture into N slices along z (default: 1)\n"
     "  --precision P       float, double or auto (default: float), as for voronoi\n"
+    "  --coarsen N         on the branching grid of the field coarsened by N (see `geovoronoi help\n"
+    "                      voronoi`): the --cut edges of the fine image split the copies of the cells\n"
+    "                      they cross; the library's update of the diagram (and with --method of the\n"
+    "                      weights) is checked bit for bit against a recompute on the cut grid; the\n"
+    "                      files are at the fine resolution, with copies.npz (and copy_weights.npz) in\n"
+    "                      before/ and after/; --cut only (no --carve); --reduction R\n"
     "  --method M          also the shape functions, before and after: distance-ratio, sibson or laplace\n"
     "  --nodes-per-voxel K with --method: the most nodes a voxel keeps, 1..64 (default: 4)\n"
     "  --picture-node N    with --method: the node whose weight weight_node<N>.png shows (default: 0)\n"

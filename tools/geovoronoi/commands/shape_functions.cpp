@@ -156,7 +156,8 @@ int run(const std::vector<std::string>& args) {
     bar.update("writing");
     write_shape(out.subdir("."), w, d, sa.picture_node, j.pictures(), method_name(method));
   };
-  return solve_and_write("shape-functions", a, check, more, more);
+  // --coarsen: the branching run computes the weights itself, at the copies or at the points (fine voxels)
+  return solve_and_write("shape-functions", a, check, more, more, branching_shapes{&sa, &at});
 }
 
 }  // namespace
@@ -183,6 +184,10 @@ const command shape_functions_command = {
     "  --world, --extrude N (default: 1), --cut MESH (repeatable; no path crosses the cut), --help,\n"
     "  --mesh MESH[:VALUE[:LABEL]]... with --voxel-size S or --voxels NX,NY,NZ (instead of --stiffness;\n"
     "  --pad N, --rotate, --winding)\n"
+    "  --coarsen N         the weights on the branching grid of the field coarsened by N (see `geovoronoi\n"
+    "                      help voronoi`): one row per copy, painted on the fine grid; seeds and --at\n"
+    "                      points are fine voxels (world points with --world); --reduction R; backends\n"
+    "                      seq (the default) and thrust; --cut MESH splits the copies it crosses\n"
     "\n"
     "writes, in DIR: the files of `geovoronoi voronoi`, and\n"
     "  indices.mhd/.raw    K interleaved channels (ITK, ParaView, Slicer): node index + 1, 0 for an\n"
@@ -195,6 +200,10 @@ const command shape_functions_command = {
     "  weights_indptr.npy, weights_indices.npy, weights_data.npy\n"
     "                      the voxels x nodes matrix in CSR form (scipy.sparse.csr_matrix)\n"
     "  weight_node<N>.png  node N's weight (--picture-node) on the three mid-slices\n"
+    "with --coarsen, also copies.npz (see `geovoronoi help voronoi`) and\n"
+    "  copy_weights.npz    the weights per copy: node (int32) and weight, shape (copies, K), copy_cell,\n"
+    "                      copy_voxel, voxel_count, fine_copy, seed_copy, k, nodes, coarse_shape,\n"
+    "                      factor; the files above hold them painted at the fine resolution\n"
     "with --at FILE, instead of the per-voxel weight files:\n"
     "  weights_at_indptr.npy, weights_at_indices.npy, weights_at_data.npy\n"
     "                      the points x nodes matrix in CSR form (row i: line i of FILE's points)\n"

@@ -5,6 +5,7 @@
 // neighbouring cells whose fine material touches its own across the cells' border.
 
 #include <geovoronoi/connectivity.hpp>
+#include <geovoronoi/cut.hpp>
 #include <geovoronoi/detail/search/topology.hpp>
 #include <geovoronoi/grid.hpp>
 #include <geovoronoi/image.hpp>
@@ -101,8 +102,34 @@ std::array<int, 27> offset_table() {
   return t;
 }
 
+/// The cut fine edges of @p cut as a mask per fine voxel (bit k: the edge in direction k of
+/// connectivity<N>, both orientations set), for the builder's walks; empty when @p cut is null.
+template <int Dim, int N>
+std::vector<std::uint32_t> fine_cut_masks(const grid<Dim>& g, const cut_set<Dim>* cut) {
+  std::vector<std::uint32_t> m;
+  if (!cut) return m;
+  if (!(cut->geometry() == g) || cut->directions() != N)
+    throw std::invalid_argument("geovoronoi::make_branching_grid: the cut belongs to another grid or connectivity "
+                                "than the fine image and the grid's connectivity<" + std::to_string(N) + ">");
+  m.assign(std::size_t(g.size()), 0u);
+  constexpr auto offs = connectivity<N>::offsets();
+  cut->for_each_edge([&](index_t u, int d) {
+    const index_t v = cut->neighbour(u, d);
+    int back = -1;
+    for (int k = 0; k < N; ++k) {
+      bool opposite = true;
+      for (int a = 0; a < Dim; ++a) opposite = opposite && offs[k][a] == -offs[d][a];
+      if (opposite) back = k;
+    }
+    m[std::size_t(u)] |= std::uint32_t(1) << d;
+    if (v >= 0) m[std::size_t(v)] |= std::uint32_t(1) << back;
+  });
+  return m;
+}
+
 template <int Dim, class T, int N>
-parts<Dim, T> build(const image_view<const T, Dim>& field, int factor, stiffness_reduction reduction) {
+parts<Dim, T> build(const image_view<const T, Dim>& field, int factor, stiffness_reduction reduction,
+                    const cut_set<Dim>* cut = nullptr) {
   static_assert(connectivity<N>::dim == Dim, "make_branching_grid: the connectivity does not match the grid");
   const char* who = "geovoronoi::make_branching_grid: ";
   if (factor < 1)
@@ -121,6 +148,9 @@ parts<Dim, T> build(const image_view<const T, Dim>& field, int factor, stiffness
   out.factor = factor;
   out.coarse = coarse_grid(g, factor);
   out.fine_copy = image<index_t, Dim>(g, index_t(-1));
+  // a cut fine edge joins neither two voxels of a copy nor two linked copies
+  const std::vector<std::uint32_t> cut_mask = fine_cut_masks<Dim, N>(g, cut);
+  const std::uint32_t* cm = cut_mask.empty() ? nullptr : cut_mask.data();
   index_t* fc = out.fine_copy.data();
   index_t material_count = 0;
   for (index_t v = 0; v < g.size(); ++v) material_count += material(v) ? 1 : 0;
@@ -170,7 +200,7 @@ parts<Dim, T> build(const image_view<const T, Dim>& field, int factor, stiffness
               const index_t ux = vx + fine_st.offset[k][0], uy = vy + fine_st.offset[k][1], uz = vz + fine_st.offset[k][2];
               if (ux < lo[0] || ux >= hi[0] || uy < lo[1] || uy >= hi[1] || uz < lo[2] || uz >= hi[2]) continue;
               const index_t u = v + fine_st.delta[k];
-              if (!material(u) || fc[u] >= 0) continue;
+              if (!material(u) || fc[u] >= 0 || (cm && ((cm[v] >> k) & 1u))) continue;
               fc[u] = id;
               queue.push_back(u);
             }
@@ -246,7 +276,7 @@ parts<Dim, T> build(const image_view<const T, Dim>& field, int factor, stiffness
             if (ux < 0 || ux >= nx || uy < 0 || uy >= ny || uz < 0 || uz >= nz) continue;
             if (ux >= lo[0] && ux < hi[0] && uy >= lo[1] && uy < hi[1] && uz >= lo[2] && uz < hi[2]) continue;
             const index_t w = fc[v + fine_st.delta[k]];
-            if (w >= 0) pairs.push_back({id, w});
+            if (w >= 0 && !(cm && ((cm[v] >> k) & 1u))) pairs.push_back({id, w});
           }
         }
     std::sort(pairs.begin(), pairs.end());

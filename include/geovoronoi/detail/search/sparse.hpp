@@ -111,7 +111,7 @@ sparse_solution<typename P::value_type> bounded(const P& p, Keys& st, Heap& heap
                                                 typename P::value_type radius, const solve_control& ctl = {}) {
   using T = typename P::value_type;
   using kt = key_traits<T>;
-  st.begin_bounded(p.field, p.geometry.size(), radius);
+  st.begin_bounded(p.field, node_count(p), radius);
   heap.clear();
   solve_monitor mon{&ctl, ctl.reporting() ? double(count_inside(p)) : 1.0};
   std::size_t reached = 0;
@@ -159,11 +159,16 @@ void reserve_for(query_cells<T>& out, std::size_t first, std::size_t done, std::
 template <class P, class Keys, class Heap>
 void insert_queries(const P& p, Keys& st, Heap& heap, const diagram<typename P::value_type, P::dim>& d,
                     const index_t* queries, std::size_t count, query_cells<typename P::value_type>& out) {
+  insert_queries(p, st, heap, d.distance.data(), d.label.data(), queries, count, out);
+}
+
+/// The same for a diagram given as per-node distances and labels (any topology, topology.hpp).
+template <class P, class Keys, class Heap>
+void insert_queries(const P& p, Keys& st, Heap& heap, const typename P::value_type* dist, const label_t* lab,
+                    const index_t* queries, std::size_t count, query_cells<typename P::value_type>& out) {
   using T = typename P::value_type;
   using kt = key_traits<T>;
-  const T* dist = d.distance.data();
-  const label_t* lab = d.label.data();
-  st.begin_queries(p.field, p.geometry.size(), dist);
+  st.begin_queries(p.field, node_count(p), dist);
   const std::size_t first = out.voxel.size();
   const std::size_t sample = std::max<std::size_t>(16, count / 32);
   const auto start = kt::make(T(0), Keys::query_label);
