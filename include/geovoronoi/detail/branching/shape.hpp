@@ -147,20 +147,11 @@ shape::dr_node<typename G::T> node_searches(const G& g, Scratch& sc, label_t i, 
     g.for_each_face_link(x, [&](int, index_t y, const auto&) {
       const label_t ly = g.lab[std::size_t(y)];
       if (ly == no_label || ly == i) return;
-      const T diy = shape::sorted_at(*s.support, *s.di, y);
-      if (!(diy < std::numeric_limits<T>::infinity())) return;
-      const T dby = shape::frontier_value_at_y(diy, g.dist[std::size_t(y)]);
-      const T dbx = shape::frontier_value_at_x(diy, g.dist[std::size_t(y)], g.dist[std::size_t(x)]);
-      if (dby < dmax) frontier.push_back({y, dby, 0});
-      if (dbx < dmax) frontier.push_back({x, dbx, 0});
+      shape::add_frontier_face(frontier, x, y, shape::sorted_at(*s.support, *s.di, y), g.dist[std::size_t(x)],
+                               g.dist[std::size_t(y)], dmax);
     });
   }
-  std::sort(frontier.begin(), frontier.end(), [](const source<T>& a, const source<T>& b) {
-    return a.voxel < b.voxel || (a.voxel == b.voxel && a.distance < b.distance);
-  });
-  frontier.erase(std::unique(frontier.begin(), frontier.end(),
-                             [](const source<T>& a, const source<T>& b) { return a.voxel == b.voxel; }),
-                 frontier.end());
+  shape::sort_frontier(frontier);
   sparse_solution<T> db;
   if (!frontier.empty()) db = search::bounded(g.p, sc.keys, sc.heap, frontier, dmax);
   s.frontier = shape::share(std::move(db.voxel));
@@ -254,12 +245,8 @@ void natural_neighbour_row(const G& g, Scratch& sc, search::accumulators& acc, s
         if (!g.p.inside(w)) return;
         const label_t kw = g.lab[std::size_t(w)];
         if (kw == no_label || std::binary_search(cell, cell + size, w)) return;
-        acc.touch(kw);
-        ++acc.faces[std::size_t(kw)][std::size_t(f.axis)];
+        search::add_facet_pair(g.p, acc, kw, f.axis, e, dq, fv, g.p.field[w], g.dist[std::size_t(w)]);
         any_facet = true;
-        const T h = search::extend(search::extend(dq, search::edge_weight(g.p.metric, g.p.edges.length[e], fv, g.p.field[w])),
-                                   g.dist[std::size_t(w)]);
-        if (double(h) < acc.h[std::size_t(kw)]) acc.h[std::size_t(kw)] = double(h);
       });
     }
   shape::finish_weights(g.vol, g.faces, laplace, any_facet, acc, cand);

@@ -79,6 +79,20 @@ bool face_in_grid(const P& p, index_t v, const C& c, const face<P::dim>& f) noex
   return true;
 }
 
+/// One Laplace facet pair (v in the new cell, w outside it, reached, label @p k) across a face of axis
+/// @p axis and stencil edge @p edge: a face for k, and the path length through it
+/// h = fl(fl(dq + c(v, w)) + d(w)) (@p fv, @p fw: the field values, @p dw: d(w)). Grids and copy graphs
+/// (detail/branching/shape.hpp) count their pairs here.
+template <class P>
+void add_facet_pair(const P& p, accumulators& acc, label_t k, int axis, int edge, typename P::value_type dq,
+                    typename P::value_type fv, typename P::value_type fw, typename P::value_type dw) {
+  using T = typename P::value_type;
+  acc.touch(k);
+  ++acc.faces[k][axis];
+  const T h = extend(extend(dq, edge_weight(p.metric, p.edges.length[edge], fv, fw)), dw);
+  if (double(h) < acc.h[k]) acc.h[k] = double(h);
+}
+
 /**
  * Laplace's facet pairs of cell voxel @p v (query distance @p dq): each face neighbour w in the grid,
  * across an edge that is not cut, in the domain, reached (label k = @p lab[w]) and not in the cell
@@ -99,11 +113,8 @@ bool add_facets(const P& p, index_t v, typename P::value_type dq, const std::vec
     const label_t k = lab[w];
     if (k == no_label) continue;
     if (in_cell(w, f)) continue;
-    acc.touch(k);
-    ++acc.faces[k][f.axis];
+    add_facet_pair(p, acc, k, f.axis, f.edge, dq, fv, p.field[w], dist[w]);
     any = true;
-    const T h = extend(extend(dq, edge_weight(p.metric, p.edges.length[f.edge], fv, p.field[w])), dist[w]);
-    if (double(h) < acc.h[k]) acc.h[k] = double(h);
   }
   return any;
 }

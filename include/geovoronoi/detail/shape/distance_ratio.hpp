@@ -146,6 +146,28 @@ double node_weight(const dr_node<T>& s, T di, T db, bool in_cell) noexcept {
   return distance_ratio_weight(double(di), double(db < std::numeric_limits<T>::infinity() ? db : s.dmax), in_cell);
 }
 
+/// The frontier sources of one face from x (in cell i, distance @p dist_x) to y (in another cell,
+/// @p dist_y), with @p diy = d_i(y) (+inf outside i's support: no source), those below @p dmax.
+template <class T>
+void add_frontier_face(std::vector<source<T>>& frontier, index_t x, index_t y, T diy, T dist_x, T dist_y, T dmax) {
+  if (!(diy < std::numeric_limits<T>::infinity())) return;
+  const T dby = frontier_value_at_y(diy, dist_y);
+  const T dbx = frontier_value_at_x(diy, dist_y, dist_x);
+  if (dby < dmax) frontier.push_back({y, dby, 0});
+  if (dbx < dmax) frontier.push_back({x, dbx, 0});
+}
+
+/// Frontier sources sorted by voxel, one per voxel (its least).
+template <class T>
+void sort_frontier(std::vector<source<T>>& frontier) {
+  std::sort(frontier.begin(), frontier.end(), [](const source<T>& a, const source<T>& b) {
+    return a.voxel < b.voxel || (a.voxel == b.voxel && a.distance < b.distance);
+  });
+  frontier.erase(std::unique(frontier.begin(), frontier.end(),
+                             [](const source<T>& a, const source<T>& b) { return a.voxel == b.voxel; }),
+                 frontier.end());
+}
+
 /**
  * The sources of node i's frontier search: on both sides of every face between cell i and a cell j,
  * at their distance to the point where d_i = d_j along the path i -> x -> y -> j, below d_max; one per
@@ -163,20 +185,10 @@ std::vector<source<T>> frontier_sources(const P& p, const std::vector<face<P::di
       if (!face_in_grid(p, x, c, f)) continue;
       const index_t y = x + f.delta;
       if (lab[y] == no_label || lab[y] == i) continue;
-      const T diy = di_at(y);
-      if (!(diy < std::numeric_limits<T>::infinity())) continue;
-      const T dby = frontier_value_at_y(diy, dist[y]);
-      const T dbx = frontier_value_at_x(diy, dist[y], dist[x]);
-      if (dby < dmax) frontier.push_back({y, dby, 0});
-      if (dbx < dmax) frontier.push_back({x, dbx, 0});
+      add_frontier_face(frontier, x, y, di_at(y), dist[x], dist[y], dmax);
     }
   }
-  std::sort(frontier.begin(), frontier.end(), [](const source<T>& a, const source<T>& b) {
-    return a.voxel < b.voxel || (a.voxel == b.voxel && a.distance < b.distance);
-  });
-  frontier.erase(std::unique(frontier.begin(), frontier.end(),
-                             [](const source<T>& a, const source<T>& b) { return a.voxel == b.voxel; }),
-                 frontier.end());
+  sort_frontier(frontier);
   return frontier;
 }
 
