@@ -237,7 +237,7 @@ void register_update_cases(Policy policy, const std::string& backend) {
     const std::string id =
         std::string("shape_update_at/") + method_name(m) + "/" + backend + "/mri/221/20/26/points1000/cut20";
     auto b = benchmark::RegisterBenchmark(id.c_str(), [policy, m](benchmark::State& st) { run_update_at_case(st, policy, m); });
-    b->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+    b->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
   }
 }
 
