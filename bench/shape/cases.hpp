@@ -7,6 +7,13 @@
 //   steak64      the same phantom at 64x48x16 (quick guide for the steak128 figures)
 //   beam         20x20x100 two-material bar (phantom::two_material_beam), 5 nodes, min_stiffness, 26
 //   at1000       shape_functions_at on steak128 at 1000 random inside voxels (phantom::random_seeds)
+//   mri/221/20/26           the MRI-like pelvis (phantom::mri_like on phantom::mri_like_grid(221):
+//                221x271x69 voxels of 0.9x0.9x2.5 mm), 20 nodes (phantom::random_seeds, salt 2016, as
+//                voronoi/*/mri/221/20/26), min_stiffness, 26-connected: Distance Ratio at every voxel;
+//                after the timed loop the rows at the 1000 points of points1000 are computed by
+//                shape_functions_at and must equal the full rows bit for bit (else the case fails)
+//   mri/221/20/26/points1000  shape_functions_at on the same problem at 1000 random inside voxels
+//                (phantom::random_seeds, salt 2026)
 // The diagram is computed once outside the timed region; one iteration = one shape_functions() call.
 // Counters: peak_rss_MB is the process's peak resident set so far (run one case per process for its
 // own figure); scratch_MB and visits_per_query come from shape_options::stats.
@@ -15,6 +22,8 @@
 #include <geovoronoi.hpp>
 
 #include <cstdlib>
+#include <cstring>
+#include <stdexcept>
 #include <sys/resource.h>
 
 #include <memory>
@@ -59,34 +68,51 @@ struct volume {
   gv::grid<3> g;
   gv::image<float, 3> field;
   std::vector<gv::coord<3>> nodes;
-  std::vector<gv::coord<3>> points;  // at1000 only
+  std::vector<gv::coord<3>> points;  // at1000, mri points1000 only
+  /// mri full volume: the points whose rows are checked against the full rows after the timed loop
+  std::vector<gv::coord<3>> check_points;
 };
 
+/// The MRI-like case (`mri/221/20/26`, with @p points: `.../points1000`), built once per process.
+inline std::shared_ptr<volume> make_mri_case(bool points) {
+  static const auto base = [] {
+    const gv::grid<3> g = gv::phantom::mri_like_grid(221);
+    auto f = gv::phantom::mri_like(g);
+    auto s = gv::phantom::random_seeds(f, 20, 2016);
+    auto pts = gv::phantom::random_seeds(f, 1000, 2026);
+    return std::make_shared<volume>(volume{g, std::move(f), std::move(s), {}, std::move(pts)});
+  }();
+  auto c = std::make_shared<volume>(*base);
+  if (points) c->points = c->check_points, c->check_points.clear();
+  return c;
+}
+
 inline std::shared_ptr<volume> make_case(const std::string& name) {
+  if (name == "mri/221/20/26" || name == "mri/221/20/26/points1000") return make_mri_case(name != "mri/221/20/26");
   if (name == "table1") {
     const gv::grid<3> g({100, 40, 20});
     auto f = gv::phantom::constant(g);
     auto s = gv::phantom::spread_seeds(f, 20);
-    return std::make_shared<volume>(volume{g, std::move(f), std::move(s), {}});
+    return std::make_shared<volume>(volume{g, std::move(f), std::move(s), {}, {}});
   }
   if (name == "128cube_100") {
     const gv::grid<3> g({128, 128, 128});
     auto f = gv::phantom::constant(g);
     auto s = gv::phantom::spread_seeds(f, 100);
-    return std::make_shared<volume>(volume{g, std::move(f), std::move(s), {}});
+    return std::make_shared<volume>(volume{g, std::move(f), std::move(s), {}, {}});
   }
   if (name == "beam") {
     const gv::grid<3> g({20, 20, 100});
     auto f = gv::phantom::two_material_beam(g);
     auto s = gv::phantom::spread_seeds(f, 5);
-    return std::make_shared<volume>(volume{g, std::move(f), std::move(s), {}});
+    return std::make_shared<volume>(volume{g, std::move(f), std::move(s), {}, {}});
   }
   const gv::grid<3> g = name == "steak64" ? gv::grid<3>({64, 48, 16}) : gv::grid<3>({128, 96, 32});
   auto f = gv::phantom::steak(g);
   auto s = gv::phantom::spread_seeds(f, 12);
   std::vector<gv::coord<3>> pts;
   if (name == "at1000") pts = gv::phantom::random_seeds(f, 1000, 2026);
-  return std::make_shared<volume>(volume{g, std::move(f), std::move(s), std::move(pts)});
+  return std::make_shared<volume>(volume{g, std::move(f), std::move(s), std::move(pts), {}});
 }
 
 template <class Metric, class Policy>
@@ -102,14 +128,30 @@ void run_case(benchmark::State& state, Policy policy, std::shared_ptr<volume> c,
   o.skip_single_owner_rows = filter;
   gv::shape_stats stats;
   o.stats = &stats;
+  gv::shape_weights<float, 3> last;
   for (auto _ : state) {
     if (c->points.empty()) {
       auto w = gv::shape_functions(policy, p, d, o);
       benchmark::DoNotOptimize(w.weight.data());
+      if (!c->check_points.empty()) last = std::move(w);
     } else {
       auto w = gv::shape_functions_at(policy, p, d, c->points, o);
       benchmark::DoNotOptimize(w.weight.data());
     }
+  }
+  if (!c->check_points.empty()) {  // rows at points: bit for bit the full rows at the same voxels
+    gv::shape_options po = o;
+    po.stats = nullptr;
+    const auto at = gv::shape_functions_at(policy, p, d, c->check_points, po);
+    const auto k = std::size_t(at.k);
+    for (std::size_t i = 0; i < at.points; ++i)
+      for (std::size_t s = 0; s < k; ++s) {
+        const std::size_t a = i * k + s, f = std::size_t(at.voxel[i]) * k + s;
+        if (at.node[a] != last.node[f] || std::memcmp(&at.weight[a], &last.weight[f], sizeof(float)) != 0)
+          throw std::logic_error("shape bench: the row at point " + std::to_string(i) +
+                                 " differs from the full computation's row");
+      }
+    state.counters["rows_checked"] = double(at.points);
   }
   state.counters["nodes"] = double(c->nodes.size());
   state.counters["voxels"] = double(c->points.empty() ? reached : gv::index_t(c->points.size()));
@@ -140,6 +182,17 @@ void register_cases(Policy policy, const std::string& backend, bool with_uniform
           run_case<gv::uniform>(st, policy, c, m, reuse, filter);
         else
           run_case<gv::min_stiffness>(st, policy, c, m, reuse, filter);
+      });
+      b->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+    }
+  // the MRI-like volume: the plain configuration only (not the comparison variants), none in smoke mode
+  if (smoke || !with_uniform || !reuse || !filter) return;
+  for (const std::string name : {"mri/221/20/26/points1000", "mri/221/20/26"})
+    for (auto m : methods) {
+      if (name == "mri/221/20/26" && m != gv::shape_method::distance_ratio) continue;  // Sibson: hours
+      const std::string id = std::string("shape/") + method_name(m) + "/" + backend + "/" + name;
+      auto b = benchmark::RegisterBenchmark(id.c_str(), [policy, name, m](benchmark::State& st) {
+        run_case<gv::min_stiffness>(st, policy, make_case(name), m, true, true);
       });
       b->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
     }

@@ -28,6 +28,7 @@
 #include <geovoronoi/update.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <ctime>
 #include <map>
@@ -159,6 +160,58 @@ void run_update_case(benchmark::State& state, Policy policy, gv::shape_method m,
   }
 }
 
+/**
+ * shape_update_at/<method>/<backend>/mri/221/20/26/points1000/cut20: the rows at the 1000 points of
+ * `shape/<method>/<backend>/mri/221/20/26/points1000` (cases.hpp) updated after a 20 x 20 mm planar
+ * blade (x = 99.45 mm, between voxel columns 110 and 111; y 112..132 mm, z 76..96 mm) by
+ * update_shape_functions_at_in_place(). Setup, outside the timer: the diagram before (with parents) and
+ * after (update()), the rows before (shape_functions_at()); after the timed loop the updated rows must
+ * equal shape_functions_at() on the problem after the cut bit for bit (else the case fails). Counters
+ * as the steak cases (rows, recomputed, region_voxels, ...), at_after_s: the wall seconds of that
+ * shape_functions_at() after the cut.
+ */
+template <class Policy>
+void run_update_at_case(benchmark::State& state, Policy policy, gv::shape_method m) {
+  const auto c = make_case("mri/221/20/26/points1000");
+  const auto p = gv::make_problem(c->g, c->field, gv::min_stiffness{}, gv::connectivity<26>{});
+  const auto before = gv::voronoi(gv::seq, p, c->nodes, gv::solve_options{true});
+  gv::triangle_mesh blade;
+  blade.vertices = {{99.45, 112, 76}, {99.45, 132, 76}, {99.45, 132, 96}, {99.45, 112, 96}};
+  blade.triangles = {{0, 1, 2}, {0, 2, 3}};
+  const auto cuts = gv::cut_from_mesh(c->g, gv::connectivity<26>{}, blade);
+  const gv::cut_table table(cuts);
+  const auto after = gv::with_cuts(p, table);
+  gv::change<3> chg;
+  chg.cut = cuts;
+  const auto d_after = gv::update(gv::seq, after, before, chg);
+  gv::shape_options o;
+  o.method = m;
+  const auto w0 = gv::shape_functions_at(policy, p, before, c->points, o);
+  auto w = w0;
+  gv::shape_update_stats s;
+  for (auto _ : state) {
+    state.PauseTiming();
+    w = w0;
+    state.ResumeTiming();
+    s = gv::update_shape_functions_at_in_place(policy, after, before, d_after, w, chg, o);
+    benchmark::DoNotOptimize(w.weight.data());
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto full = gv::shape_functions_at(policy, after, d_after, c->points, o);
+  state.counters["at_after_s"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  bool same = full.node == w.node && full.weight.size() == w.weight.size();
+  for (std::size_t i = 0; same && i < full.weight.size(); ++i)
+    same = std::memcmp(&full.weight[i], &w.weight[i], sizeof(float)) == 0;
+  if (!same) throw std::logic_error("shape_update_at bench: the updated rows differ from shape_functions_at after the cut");
+  state.counters["rows"] = double(s.rows);
+  state.counters["recomputed"] = double(s.recomputed);
+  state.counters["changed"] = double(s.changed);
+  state.counters["changed_voxels"] = double(s.changed_voxels);
+  state.counters["region_voxels"] = double(s.region_voxels);
+  state.counters["nodes_affected"] = double(s.nodes_affected);
+  state.counters["full"] = s.full ? 1.0 : 0.0;
+}
+
 /// Registers shape_update/<method>/<backend>/steak128/<edit>; none in smoke mode (the weights before
 /// alone take seconds to minutes).
 template <class Policy>
@@ -180,6 +233,12 @@ void register_update_cases(Policy policy, const std::string& backend) {
         else
           b->Iterations(1);
       }
+  for (const auto m : {gv::shape_method::distance_ratio, gv::shape_method::sibson, gv::shape_method::laplace}) {
+    const std::string id =
+        std::string("shape_update_at/") + method_name(m) + "/" + backend + "/mri/221/20/26/points1000/cut20";
+    auto b = benchmark::RegisterBenchmark(id.c_str(), [policy, m](benchmark::State& st) { run_update_at_case(st, policy, m); });
+    b->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+  }
 }
 
 }  // namespace gvbench_shape

@@ -112,9 +112,10 @@ TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: piecewise-consta
   CHECK(piecewise_engaged >= 20);  // the balls were really used
 }
 
-/// Rows of shape_functions_at equal the rows of the full computation, bit for bit.
+/// Rows of shape_functions_at equal the rows of the full computation, bit for bit: at scattered points,
+/// or (@p clustered) at every voxel of a small block, where consecutive queries share a lane search.
 template <int Dim, int N, class Metric>
-void at_points_case(std::mt19937_64& rng, int trial) {
+void at_points_case(std::mt19937_64& rng, int trial, bool clustered = false) {
   using T = float;
   gv::coord<Dim> e{};
   gv::point<Dim> sp{}, origin{};
@@ -131,7 +132,21 @@ void at_points_case(std::mt19937_64& rng, int trial) {
   if (seeds.size() < 2) return;
   const auto d = gv::voronoi(gv::seq, p, seeds);
   std::vector<gv::coord<Dim>> pts;
-  for (int i = 0; i < 25; ++i) pts.push_back(g.coords(gv::index_t(rng() % std::uint64_t(g.size()))));
+  for (int i = 0; i < (clustered ? 4 : 25); ++i) pts.push_back(g.coords(gv::index_t(rng() % std::uint64_t(g.size()))));
+  if (clustered) {  // the voxels of a block of 4 (2D: 6) per side at a random corner, in a shuffled order
+    const gv::index_t side = Dim == 2 ? 6 : 4;
+    gv::coord<Dim> lo{};
+    for (int a = 0; a < Dim; ++a) lo[a] = gv::index_t(rng() % std::uint64_t(std::max<gv::index_t>(1, e[a] - side + 1)));
+    std::vector<gv::coord<Dim>> block;
+    for (gv::index_t v = 0; v < g.size(); ++v) {
+      const auto c = g.coords(v);
+      bool in = true;
+      for (int a = 0; a < Dim; ++a) in = in && c[a] >= lo[a] && c[a] < lo[a] + side;
+      if (in) block.push_back(c);
+    }
+    std::shuffle(block.begin(), block.end(), rng);
+    pts.insert(pts.end(), block.begin(), block.end());
+  }
   pts.push_back(pts[3]);  // duplicates
   pts.push_back(pts[3]);
   for (gv::index_t v = 0; v < g.size(); ++v)
@@ -149,8 +164,8 @@ void at_points_case(std::mt19937_64& rng, int trial) {
     world.push_back(x);
   }
   for (auto m : {gv::shape_method::distance_ratio, gv::shape_method::sibson, gv::shape_method::laplace}) {
-    INFO(GEOVORONOI_SHAPE_BACKEND_NAME << " at points, " << method_name(m) << " dim " << Dim << " N " << N << " trial "
-                                       << trial);
+    INFO(GEOVORONOI_SHAPE_BACKEND_NAME << (clustered ? " at clustered points, " : " at points, ") << method_name(m)
+                                       << " dim " << Dim << " N " << N << " trial " << trial);
     const int k = 1 + int(rng() % 4);
     const auto full = compute(p, d, m, k);
     gv::shape_options o;
@@ -203,6 +218,10 @@ TEST_CASE("shape functions [" GEOVORONOI_SHAPE_BACKEND_NAME "]: shape_functions_
     at_points_case<3, 6, gv::uniform>(rng, trial);
     at_points_case<3, 18, gv::mean_stiffness>(rng, trial);
     at_points_case<3, 26, gv::min_stiffness>(rng, trial);
+  }
+  for (int trial = 0; trial < 2; ++trial) {
+    at_points_case<2, 8, gv::min_stiffness>(rng, trial, true);
+    at_points_case<3, 26, gv::min_stiffness>(rng, trial, true);
   }
   // an empty list of points
   const gv::grid<2> g({4, 4});

@@ -118,6 +118,39 @@ void warn_if_long(const typed_problem<T, 3>& p, const gv::diagram<T, 3>& d, gv::
            "search); --at FILE computes chosen points only, distance-ratio is much cheaper");
 }
 
+/// The same for --at runs of Sibson and Laplace: their cost is one search per point (points scattered
+/// over a volume share no search), so time two evenly spread samples of the points themselves (16 and
+/// 32, the larger holding the smaller: their difference cancels the set-up cost) and extrapolate the
+/// time per point to all of them on the run's @p threads; a note up front when that passes a minute.
+template <class T>
+void warn_if_long_at(const typed_problem<T, 3>& p, const gv::diagram<T, 3>& d, gv::shape_options opt,
+                     const char* method, const std::vector<gv::coord<3>>& points, unsigned threads, progress_bar& bar) {
+  if (points.size() < 2000) return;  // a few thousand points: seconds to a minute
+  opt.progress = nullptr;
+  opt.stats = nullptr;
+  std::vector<gv::coord<3>> at;
+  auto add = [&](std::size_t first) {  // points (2i + 1) / 64 of the list for i = first, first + 2, ...
+    for (std::size_t i = first; i < 32; i += 2) at.push_back(points[(2 * i + 1) * points.size() / 64]);
+  };
+  auto time_sample = [&] {
+    const auto t0 = std::chrono::steady_clock::now();
+    (void)p.shape_functions_at(d, at, opt);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  add(0);
+  const std::size_t n_small = at.size();
+  const double t_small = time_sample();
+  add(1);
+  const std::size_t n_large = at.size();
+  const double t_large = time_sample();
+  const double per_point = t_large > t_small ? (t_large - t_small) / double(n_large - n_small) : t_large / double(n_large);
+  const double estimate = per_point * double(points.size()) / double(std::max(1u, threads));
+  if (estimate < 60.0) return;
+  bar.note("geovoronoi shape-functions: note: " + std::string(method) + " at " + std::to_string(points.size()) +
+           " points is estimated at about " + duration_text(estimate) +
+           " here (timed on a sample of the points: one geodesic search per point)");
+}
+
 int run(const std::vector<std::string>& args) {
   auto names = shape_arg_options();
   names.insert("--at");
@@ -141,6 +174,12 @@ int run(const std::vector<std::string>& args) {
     using T = typename std::decay_t<decltype(d.distance)>::value_type;
     const auto& p = j.problem<T>();
     if (!at.empty()) {  // only the chosen points' rows
+      if (method != gv::shape_method::distance_ratio) {
+        bar.update("estimating the work");
+        const unsigned threads = std::string(j.solver->name) == "thrust" ? thrust_threads() : 1u;
+        warn_if_long_at(p, d, opt, method_name(method), at, threads, bar);
+        bar.update(method_name(method), 0.0);
+      }
       const auto w = p.shape_functions_at(d, at, opt);
       bar.update("writing");
       write_shape_at(out.subdir("."), w);

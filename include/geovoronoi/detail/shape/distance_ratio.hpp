@@ -304,6 +304,37 @@ void distance_ratio_rows(const Policy& policy, const P& p, const D& d, const Opt
   std::optional<offset_table<P>> tab;
   if (translation_invariant(p)) tab.emplace(policy, p);
 
+  // 1. every node's bound d_max (the largest distance over its cell and its face neighbours in other
+  // cells), and with it the progress bar's measure of each node's work: the voxels with d < 2 d_max,
+  // which hold its support (d_i >= d). Cell sizes would not do: a support can span the whole domain
+  // around a small cell (a soft region between stiff ones).
+  std::vector<T> bound(std::size_t(nodes), T(0));
+  host_parallel_for(policy, index_t(nodes), [&](index_t t) {
+    const std::size_t i = std::size_t(t);
+    bound[i] = node_bound(p, faces, dist, lab, label_t(t), cells.members.data() + start[i], start[i + 1] - start[i]);
+  });
+  std::vector<double> work(std::size_t(nodes), 1.0);  // (+1: an isolated node still counts)
+  if (opt.progress) {
+    std::vector<std::pair<T, label_t>> radius(static_cast<std::size_t>(nodes));
+    for (label_t i = 0; i < nodes; ++i) radius[std::size_t(i)] = {T(2) * bound[std::size_t(i)], i};
+    std::sort(radius.begin(), radius.end());
+    std::vector<double> below(std::size_t(nodes) + 1, 0.0);  // voxels with d in [r_(j-1), r_j)
+    for (const label_t* l = lab; l != lab + n; ++l) {
+      if (*l == no_label) continue;
+      const T dv = dist[l - lab];
+      const auto at = std::upper_bound(radius.begin(), radius.end(), dv,
+                                       [](T x, const std::pair<T, label_t>& r) { return x < r.first; });
+      below[std::size_t(at - radius.begin())] += 1.0;
+    }
+    double cum = 0.0;
+    for (std::size_t j = 0; j < radius.size(); ++j) {
+      cum += below[j];
+      work[std::size_t(radius[j].second)] += cum;
+    }
+  }
+  double work_total = 0.0, work_done = 0.0;
+  for (const double w : work) work_total += w;
+
   std::vector<double> raw(slots * std::size_t(k), 0.0);
   // Nodes are processed in groups: the group's searches run as parallel host tasks when the backend
   // offers them (each task's backend calls then run on its thread), each producing its node's
@@ -319,8 +350,7 @@ void distance_ratio_rows(const Policy& policy, const P& p, const D& d, const Opt
       out.clear();
       const index_t* cell = cells.members.data() + start[std::size_t(i)];
       const std::size_t cell_size = start[std::size_t(i) + 1] - start[std::size_t(i)];
-      // 1. bound: the largest distance over the cell and its face neighbours in other cells
-      const T dmax = node_bound(p, faces, dist, lab, i, cell, cell_size);
+      const T dmax = bound[std::size_t(i)];
       const index_t node_voxel = d.seeds[std::size_t(i)];
       if (!(dmax > T(0))) {  // an isolated one-voxel cell: only the node itself
         if (slot(node_voxel) >= 0) out.push_back({node_voxel, 1.0});
@@ -347,10 +377,9 @@ void distance_ratio_rows(const Policy& policy, const P& p, const D& d, const Opt
         const std::size_t c = std::size_t(slot(x));
         insert_slot(slot_node + c * std::size_t(k), raw.data() + c * std::size_t(k), k, i, wx);
       }
-      // progress by work: a node's searches cover its cell and support, so its cell's size stands
-      // for its share of the work (not 1 / nodes: cells can differ by orders of magnitude)
-      report(opt.progress, start.back() > 0 ? double(start[std::size_t(i) + 1]) / double(start.back())
-                                            : double(i + 1) / double(nodes));
+      // progress by work: a node's searches cover its support, measured up front (step 1)
+      work_done += work[std::size_t(i)];
+      report(opt.progress, std::min(1.0, work_done / work_total));
     }
   }
   // 5. normalise the kept weights of every reached voxel (every slot)
