@@ -60,6 +60,35 @@ void check_equal_to_seq(const gv::image<float, 3>& f, int factor, Metric metric,
   CHECK(got.seeds == want.seeds);
 }
 
+/// Shape functions on copies with the CUDA system's policy (the searches run on the host, as for every
+/// backend) against seq, every method, bit for bit.
+inline void check_shape_equal_to_seq(const gv::image<float, 3>& f, int factor, int seeds) {
+  const auto bg = gv::make_branching_grid(f, factor, gv::connectivity<26>{});
+  const auto p = gv::make_problem(bg, gv::min_stiffness{});
+  std::vector<gv::coord<3>> s;
+  std::vector<gv::index_t> used;
+  for (const auto& c : gv::phantom::spread_seeds(f, 4 * seeds)) {
+    const gv::index_t copy = bg.fine_copy()(c);
+    if (std::find(used.begin(), used.end(), copy) != used.end()) continue;
+    used.push_back(copy);
+    s.push_back(c);
+    if (int(s.size()) == seeds) break;
+  }
+  REQUIRE(s.size() > 1);
+  const auto policy = gv::thrust::par_on(::thrust::cuda::par);
+  const auto d = gv::voronoi(gv::seq, p, s);
+  for (const auto m : {gv::shape_method::distance_ratio, gv::shape_method::sibson, gv::shape_method::laplace}) {
+    gv::shape_options o;
+    o.method = m;
+    const auto want = gv::shape_functions(gv::seq, p, d, o);
+    const auto got = gv::shape_functions(policy, p, d, o);
+    INFO("method " << int(m) << ", factor " << factor);
+    REQUIRE(got.node == want.node);
+    REQUIRE(got.weight.size() == want.weight.size());
+    for (std::size_t a = 0; a < want.weight.size(); ++a) CHECK(bits(got.weight[a]) == bits(want.weight[a]));
+  }
+}
+
 }  // namespace gvbranching
 
 TEST_CASE("branching voronoi on thrust_cuda equals seq: random images") {
@@ -82,4 +111,11 @@ TEST_CASE("branching voronoi on thrust_cuda equals seq: fingers") {
   const auto f = gv::phantom::fingers(gv::grid<3>({64, 48, 16}), 6, 1);
   gvbranching::check_equal_to_seq<26>(f, 4, gv::min_stiffness{}, 10, 0);
   gvbranching::check_equal_to_seq<18>(f, 2, gv::min_stiffness{}, 10, 64);
+}
+
+TEST_CASE("branching shape functions with the thrust_cuda policy equal seq: fingers") {
+  if (GEOVORONOI_TEST_SKIP_IF_NO_DEVICE()) return;
+  namespace gv = geovoronoi;
+  const auto f = gv::phantom::fingers(gv::grid<3>({32, 24, 8}), 4, 1);
+  gvbranching::check_shape_equal_to_seq(f, 2, 6);
 }

@@ -372,23 +372,51 @@ void distance_ratio_rows(const Policy& policy, const P& p, const D& d, const Opt
       });
       if (keep) keep->nodes[std::size_t(i)] = std::move(s);
     });
-    for (label_t i = g0; i < g1; ++i) {
-      for (const auto& [x, wx] : contrib[std::size_t(i - g0)]) {
-        const std::size_t c = std::size_t(slot(x));
-        insert_slot(slot_node + c * std::size_t(k), raw.data() + c * std::size_t(k), k, i, wx);
+    // merge the group's lists into the slots in node order. On the whole grid each list is sorted by
+    // voxel (= slot), so the slots are split into ranges merged in parallel, every range taking the
+    // nodes in order: each slot sees the same insertions in the same order as a serial merge.
+    auto merge = [&](label_t i, const std::pair<index_t, double>* b, const std::pair<index_t, double>* e) {
+      for (; b != e; ++b) {
+        const std::size_t c = std::size_t(slot(b->first));
+        insert_slot(slot_node + c * std::size_t(k), raw.data() + c * std::size_t(k), k, i, b->second);
       }
-      // progress by work: a node's searches cover its support, measured up front (step 1)
+    };
+    if (voxel_of) {
+      for (label_t i = g0; i < g1; ++i) {
+        const auto& l = contrib[std::size_t(i - g0)];
+        merge(i, l.data(), l.data() + l.size());
+      }
+    } else {
+      const index_t ranges = index_t(4 * host_threads(policy));
+      host_parallel_for(policy, ranges, [&](index_t r) {
+        const index_t lo = index_t(std::size_t(n) * std::size_t(r) / std::size_t(ranges));
+        const index_t hi = index_t(std::size_t(n) * std::size_t(r + 1) / std::size_t(ranges));
+        auto before = [](const std::pair<index_t, double>& a, index_t v) { return a.first < v; };
+        for (label_t i = g0; i < g1; ++i) {
+          const auto& l = contrib[std::size_t(i - g0)];
+          merge(i, std::lower_bound(l.data(), l.data() + l.size(), lo, before),
+                std::lower_bound(l.data(), l.data() + l.size(), hi, before));
+        }
+      });
+    }
+    // progress by work: a node's searches cover its support, measured up front (step 1)
+    // (one report per node, as each may be the point where a caller cancels)
+    for (label_t i = g0; i < g1; ++i) {
       work_done += work[std::size_t(i)];
       report(opt.progress, std::min(1.0, work_done / work_total));
     }
   }
-  // 5. normalise the kept weights of every reached voxel (every slot)
-  std::vector<candidate> cand;
-  for (std::size_t c = 0; c < slots; ++c) {
-    const index_t v = voxel_of ? slot_voxel[c] : index_t(c);
-    const std::size_t at = c * std::size_t(k);
-    finish_row(lab[v], dist[v], k, slot_node + at, slot_weight + at, raw.data() + at, cand);
-  }
+  // 5. normalise the kept weights of every reached voxel (every slot; each on its own, in parallel)
+  const index_t ranges = index_t(4 * host_threads(policy));
+  host_parallel_for(policy, ranges, [&](index_t r) {
+    std::vector<candidate> cand;
+    const std::size_t lo = slots * std::size_t(r) / std::size_t(ranges), hi = slots * std::size_t(r + 1) / std::size_t(ranges);
+    for (std::size_t c = lo; c < hi; ++c) {
+      const index_t v = voxel_of ? slot_voxel[c] : index_t(c);
+      const std::size_t at = c * std::size_t(k);
+      finish_row(lab[v], dist[v], k, slot_node + at, slot_weight + at, raw.data() + at, cand);
+    }
+  });
   // 6. chosen points: each row copies its voxel's slots
   if (voxel_of)
     for (std::size_t r = 0; r < rows; ++r) {
