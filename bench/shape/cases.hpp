@@ -14,6 +14,10 @@
 //                shape_functions_at and must equal the full rows bit for bit (else the case fails)
 //   mri/221/20/26/points1000  shape_functions_at on the same problem at 1000 random inside voxels
 //                (phantom::random_seeds, salt 2026)
+//   mri/221/20/26/block  Sibson and Laplace: shape_functions_at on the inside voxels of a 32x32x8 block
+//                at the grid's centre, in voxel order: the queries the whole grid's run makes (lane
+//                searches of neighbouring voxels); counter full_volume_s extrapolates the time per
+//                point to every inside voxel (what shape_functions() would take)
 // The diagram is computed once outside the timed region; one iteration = one shape_functions() call.
 // Counters: peak_rss_MB is the process's peak resident set so far (run one case per process for its
 // own figure); scratch_MB and visits_per_query come from shape_options::stats.
@@ -21,6 +25,7 @@
 #include <benchmark/benchmark.h>
 #include <geovoronoi.hpp>
 
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -74,7 +79,7 @@ struct volume {
 };
 
 /// The MRI-like case (`mri/221/20/26`, with @p points: `.../points1000`), built once per process.
-inline std::shared_ptr<volume> make_mri_case(bool points) {
+inline std::shared_ptr<volume> make_mri_case(bool points, bool block = false) {
   static const auto base = [] {
     const gv::grid<3> g = gv::phantom::mri_like_grid(221);
     auto f = gv::phantom::mri_like(g);
@@ -84,10 +89,19 @@ inline std::shared_ptr<volume> make_mri_case(bool points) {
   }();
   auto c = std::make_shared<volume>(*base);
   if (points) c->points = c->check_points, c->check_points.clear();
+  if (block) {
+    c->check_points.clear();
+    const auto n = c->g.extents();
+    for (gv::index_t z = n[2] / 2 - 4; z < n[2] / 2 + 4; ++z)
+      for (gv::index_t y = n[1] / 2 - 16; y < n[1] / 2 + 16; ++y)
+        for (gv::index_t x = n[0] / 2 - 16; x < n[0] / 2 + 16; ++x)
+          if (c->field[c->g.index({x, y, z})] > 0) c->points.push_back({x, y, z});
+  }
   return c;
 }
 
 inline std::shared_ptr<volume> make_case(const std::string& name) {
+  if (name == "mri/221/20/26/block") return make_mri_case(false, true);
   if (name == "mri/221/20/26" || name == "mri/221/20/26/points1000") return make_mri_case(name != "mri/221/20/26");
   if (name == "table1") {
     const gv::grid<3> g({100, 40, 20});
@@ -129,6 +143,7 @@ void run_case(benchmark::State& state, Policy policy, std::shared_ptr<volume> c,
   gv::shape_stats stats;
   o.stats = &stats;
   gv::shape_weights<float, 3> last;
+  const auto t0 = std::chrono::steady_clock::now();
   for (auto _ : state) {
     if (c->points.empty()) {
       auto w = gv::shape_functions(policy, p, d, o);
@@ -152,6 +167,12 @@ void run_case(benchmark::State& state, Policy policy, std::shared_ptr<volume> c,
                                  " differs from the full computation's row");
       }
     state.counters["rows_checked"] = double(at.points);
+  }
+  if (!c->points.empty()) {  // the time per point, extrapolated to every inside voxel
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    gv::index_t inside = 0;
+    for (gv::index_t v = 0; v < c->g.size(); ++v) inside += c->field[v] > 0;
+    state.counters["full_volume_s"] = s / double(state.iterations()) / double(c->points.size()) * double(inside);
   }
   state.counters["nodes"] = double(c->nodes.size());
   state.counters["voxels"] = double(c->points.empty() ? reached : gv::index_t(c->points.size()));
@@ -187,9 +208,10 @@ void register_cases(Policy policy, const std::string& backend, bool with_uniform
     }
   // the MRI-like volume: the plain configuration only (not the comparison variants), none in smoke mode
   if (smoke || !with_uniform || !reuse || !filter) return;
-  for (const std::string name : {"mri/221/20/26/points1000", "mri/221/20/26"})
+  for (const std::string name : {"mri/221/20/26/points1000", "mri/221/20/26", "mri/221/20/26/block"})
     for (auto m : methods) {
       if (name == "mri/221/20/26" && m != gv::shape_method::distance_ratio) continue;  // Sibson: hours
+      if (name == "mri/221/20/26/block" && m == gv::shape_method::distance_ratio) continue;  // per node, not per point
       const std::string id = std::string("shape/") + method_name(m) + "/" + backend + "/" + name;
       auto b = benchmark::RegisterBenchmark(id.c_str(), [policy, name, m](benchmark::State& st) {
         run_case<gv::min_stiffness>(st, policy, make_case(name), m, true, true);
