@@ -30,10 +30,9 @@ inline gv::image<float, 3> random_image(std::mt19937_64& rng, gv::coord<3> n, do
   return f;
 }
 
-template <int N, class Metric>
-void check_equal_to_seq(const gv::image<float, 3>& f, int factor, Metric metric, int seeds, int batch) {
-  const auto bg = gv::make_branching_grid(f, factor, gv::connectivity<N>{});
-  const auto p = gv::make_problem(bg, metric);
+/// Up to @p seeds of phantom::spread_seeds' fine voxels, no two in one copy.
+template <class BG>
+std::vector<gv::coord<3>> seeds_in_distinct_copies(const BG& bg, const gv::image<float, 3>& f, int seeds) {
   std::vector<gv::coord<3>> s;
   std::vector<gv::index_t> used;
   for (const auto& c : gv::phantom::spread_seeds(f, 4 * seeds)) {
@@ -43,6 +42,14 @@ void check_equal_to_seq(const gv::image<float, 3>& f, int factor, Metric metric,
     s.push_back(c);
     if (int(s.size()) == seeds) break;
   }
+  return s;
+}
+
+template <int N, class Metric>
+void check_equal_to_seq(const gv::image<float, 3>& f, int factor, Metric metric, int seeds, int batch) {
+  const auto bg = gv::make_branching_grid(f, factor, gv::connectivity<N>{});
+  const auto p = gv::make_problem(bg, metric);
+  const auto s = seeds_in_distinct_copies(bg, f, seeds);
   REQUIRE(!s.empty());
   gv::solve_options opt;
   opt.with_parent = true;
@@ -65,15 +72,7 @@ void check_equal_to_seq(const gv::image<float, 3>& f, int factor, Metric metric,
 inline void check_shape_equal_to_seq(const gv::image<float, 3>& f, int factor, int seeds) {
   const auto bg = gv::make_branching_grid(f, factor, gv::connectivity<26>{});
   const auto p = gv::make_problem(bg, gv::min_stiffness{});
-  std::vector<gv::coord<3>> s;
-  std::vector<gv::index_t> used;
-  for (const auto& c : gv::phantom::spread_seeds(f, 4 * seeds)) {
-    const gv::index_t copy = bg.fine_copy()(c);
-    if (std::find(used.begin(), used.end(), copy) != used.end()) continue;
-    used.push_back(copy);
-    s.push_back(c);
-    if (int(s.size()) == seeds) break;
-  }
+  const auto s = seeds_in_distinct_copies(bg, f, seeds);
   REQUIRE(s.size() > 1);
   const auto policy = gv::thrust::par_on(::thrust::cuda::par);
   const auto d = gv::voronoi(gv::seq, p, s);

@@ -630,40 +630,13 @@ point_weights<T> shape_functions_at(const Policy& policy, const branching_proble
                                     const std::vector<point<branching_problem<T, Dim, Metric, N>::dim>>& world,
                                     const shape_options& opt) {
   detail::require_policy<Policy>();
-  std::vector<coord<Dim>> c;
-  c.reserve(world.size());
-  for (std::size_t i = 0; i < world.size(); ++i) {
-    try {
-      c.push_back(p.grid_of().fine().checked_nearest_voxel(world[i]));
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument("geovoronoi::shape_functions_at: point " + std::to_string(i) + ": " + e.what());
-    }
-  }
-  return shape_functions_at(policy, p, d, c, opt);
+  return shape_functions_at(policy, p, d, detail::shape::nearest_voxels(p.grid_of().fine(), world), opt);
 }
 
 template <class T, class Derived>
 Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> interpolate(const copy_weights<T>& w,
                                                              const Eigen::MatrixBase<Derived>& nodal_values) {
-  if (nodal_values.rows() < 0 || std::size_t(nodal_values.rows()) != w.nodes)
-    throw std::invalid_argument("geovoronoi::interpolate: nodal_values has " + std::to_string(nodal_values.rows()) +
-                                " rows but there are " + std::to_string(w.nodes) + " nodes");
-  const index_t rows = w.copies;
-  if (w.node.size() != std::size_t(rows) * std::size_t(w.k) || w.weight.size() != w.node.size())
-    throw std::invalid_argument("geovoronoi::interpolate: node/weight arrays do not hold copies * k entries");
-  detail::shape::check_slots(w.node, w.k, w.nodes, "geovoronoi::interpolate");
-  const Eigen::Index cols = nodal_values.cols();
-  Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> out =
-      Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>::Zero(Eigen::Index(rows), cols);
-  for (index_t v = 0; v < rows; ++v)
-    for (int s = 0; s < w.k; ++s) {
-      const std::size_t at = std::size_t(v) * std::size_t(w.k) + std::size_t(s);
-      const label_t n = w.node[at];
-      if (n == no_label) continue;
-      for (Eigen::Index c = 0; c < cols; ++c)
-        out(Eigen::Index(v), c) += w.weight[at] * static_cast<T>(nodal_values(Eigen::Index(n), c));
-    }
-  return out;
+  return detail::shape::interpolate_rows(w.node, w.weight, w.k, w.nodes, w.copies, "copies", nodal_values);
 }
 
 template <int Dim, class T, int N>

@@ -36,6 +36,51 @@ inline void check_slots(const std::vector<label_t>& node, int k, std::size_t nod
   }
 }
 
+/// Each world point's nearest voxel of @p geometry (grid::checked_nearest_voxel); a point outside is
+/// an std::invalid_argument naming it (shape_functions_at's message).
+template <int Dim>
+std::vector<coord<Dim>> nearest_voxels(const grid<Dim>& geometry, const std::vector<point<Dim>>& world) {
+  std::vector<coord<Dim>> c;
+  c.reserve(world.size());
+  for (std::size_t i = 0; i < world.size(); ++i) {
+    try {
+      c.push_back(geometry.checked_nearest_voxel(world[i]));
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument("geovoronoi::shape_functions_at: point " + std::to_string(i) + ": " + e.what());
+    }
+  }
+  return c;
+}
+
+/// The rows (K slots each) times the nodes' values: interpolate() of every weights type. @p rows_name
+/// names the row count in the message of a size mismatch.
+template <class T, class Derived>
+Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> interpolate_rows(const std::vector<label_t>& node,
+                                                                  const std::vector<T>& weight, int k,
+                                                                  std::size_t nodes, index_t rows,
+                                                                  const char* rows_name,
+                                                                  const Eigen::MatrixBase<Derived>& nodal_values) {
+  if (nodal_values.rows() < 0 || std::size_t(nodal_values.rows()) != nodes)
+    throw std::invalid_argument("geovoronoi::interpolate: nodal_values has " + std::to_string(nodal_values.rows()) +
+                                " rows but there are " + std::to_string(nodes) + " nodes");
+  if (node.size() != std::size_t(rows) * std::size_t(k) || weight.size() != node.size())
+    throw std::invalid_argument(std::string("geovoronoi::interpolate: node/weight arrays do not hold ") + rows_name +
+                                " * k entries");
+  check_slots(node, k, nodes, "geovoronoi::interpolate");
+  const Eigen::Index cols = nodal_values.cols();
+  Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> out =
+      Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>::Zero(Eigen::Index(rows), cols);
+  for (index_t v = 0; v < rows; ++v)
+    for (int s = 0; s < k; ++s) {
+      const std::size_t at = std::size_t(v) * std::size_t(k) + std::size_t(s);
+      const label_t n = node[at];
+      if (n == no_label) continue;
+      for (Eigen::Index c = 0; c < cols; ++c)
+        out(Eigen::Index(v), c) += weight[at] * static_cast<T>(nodal_values(Eigen::Index(n), c));
+    }
+  return out;
+}
+
 /// Slots (rows x k, -1 empty) as a rows x nodes row-major sparse matrix in T.
 template <class T>
 Eigen::SparseMatrix<T, Eigen::RowMajor> slots_to_sparse(std::size_t rows, int k, std::size_t nodes,
@@ -171,40 +216,14 @@ point_weights<typename P::value_type> shape_functions_at(const Policy& policy, c
                                                          const std::vector<point<P::dim>>& world_points,
                                                          const shape_options& opt) {
   detail::require_policy<Policy>();
-  std::vector<coord<P::dim>> c;
-  c.reserve(world_points.size());
-  for (std::size_t i = 0; i < world_points.size(); ++i) {
-    try {
-      c.push_back(problem.geometry.checked_nearest_voxel(world_points[i]));
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument("geovoronoi::shape_functions_at: point " + std::to_string(i) + ": " + e.what());
-    }
-  }
-  return shape_functions_at(policy, problem, d, c, opt);
+  return shape_functions_at(policy, problem, d, detail::shape::nearest_voxels(problem.geometry, world_points), opt);
 }
 
 template <class T, int Dim, class Derived>
 Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> interpolate(const shape_weights<T, Dim>& w,
                                                              const Eigen::MatrixBase<Derived>& nodal_values) {
-  if (nodal_values.rows() < 0 || std::size_t(nodal_values.rows()) != w.nodes)
-    throw std::invalid_argument("geovoronoi::interpolate: nodal_values has " + std::to_string(nodal_values.rows()) +
-                                " rows but there are " + std::to_string(w.nodes) + " nodes");
-  const index_t rows = w.geometry.size();
-  if (w.node.size() != std::size_t(rows) * std::size_t(w.k) || w.weight.size() != w.node.size())
-    throw std::invalid_argument("geovoronoi::interpolate: node/weight arrays do not hold geometry.size() * k entries");
-  detail::shape::check_slots(w.node, w.k, w.nodes, "geovoronoi::interpolate");
-  const Eigen::Index cols = nodal_values.cols();
-  Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic> out =
-      Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>::Zero(Eigen::Index(rows), cols);
-  for (index_t v = 0; v < rows; ++v)
-    for (int s = 0; s < w.k; ++s) {
-      const std::size_t at = std::size_t(v) * std::size_t(w.k) + std::size_t(s);
-      const label_t n = w.node[at];
-      if (n == no_label) continue;
-      for (Eigen::Index c = 0; c < cols; ++c)
-        out(Eigen::Index(v), c) += w.weight[at] * static_cast<T>(nodal_values(Eigen::Index(n), c));
-    }
-  return out;
+  return detail::shape::interpolate_rows(w.node, w.weight, w.k, w.nodes, w.geometry.size(), "geometry.size()",
+                                         nodal_values);
 }
 
 }  // namespace geovoronoi
