@@ -36,10 +36,11 @@ inline void check_slots(const std::vector<label_t>& node, int k, std::size_t nod
   }
 }
 
-/// Each world point's nearest voxel of @p geometry (grid::checked_nearest_voxel); a point outside is
-/// an std::invalid_argument naming it (shape_functions_at's message).
-template <int Dim>
-std::vector<coord<Dim>> nearest_voxels(const grid<Dim>& geometry, const std::vector<point<Dim>>& world) {
+/// Each world point (@p world: a std::vector<point<Dim>>) to its nearest voxel of @p geometry
+/// (grid::checked_nearest_voxel); a point outside is an std::invalid_argument naming it
+/// (shape_functions_at's message).
+template <int Dim, class Points>
+std::vector<coord<Dim>> nearest_voxels(const grid<Dim>& geometry, const Points& world) {
   std::vector<coord<Dim>> c;
   c.reserve(world.size());
   for (std::size_t i = 0; i < world.size(); ++i) {
