@@ -4,6 +4,14 @@
 // padding stands in for the bounds checks), with a user metric (which keeps the negative-weight check)
 // and with a metric that returns a negative weight; and the lane search (fused_lanes.hpp, its
 // AVX-512 and SSE2 forms) against the one-query search, bit for bit.
+//
+// GEOVORONOI_SHAPE_SIMD_VARIANTS (default 1): whether the lane test also runs the SSE2 and 16-lane
+// forms against the default. The lane search is the same host code on every host backend, so one
+// suite (seq) compares the forms; the others compare the default lanes with the one-query search.
+
+#ifndef GEOVORONOI_SHAPE_SIMD_VARIANTS
+#define GEOVORONOI_SHAPE_SIMD_VARIANTS 1
+#endif
 
 namespace gvshape {
 
@@ -72,7 +80,7 @@ void lanes_case(std::mt19937_64& rng, const P& p, const std::string& what) {
     const bool lanes = sh::uses_fused_lanes<Policy>(p, seeds.size(), o.memory_budget);
     if (lanes) ++lanes_engaged;
     const auto a = gv::shape_functions(GEOVORONOI_SHAPE_POLICY(), p, d, o);
-#ifdef GEOVORONOI_FUSED_LANES
+#if defined(GEOVORONOI_FUSED_LANES) && GEOVORONOI_SHAPE_SIMD_VARIANTS
     {
       // the SSE2 lanes (the default is AVX-512 where the CPU has it)
       o.tuning.avx512 = false;
