@@ -4,26 +4,8 @@
 #   cmake -DGEOVORONOI=<binary> -DWORK=<scratch folder> [-DBUILT=seq,thrust] -P branching_cli.cmake
 include(${CMAKE_CURRENT_LIST_DIR}/common.cmake)
 
-# fingers.pgm, 12 x 24: a palm (rows y = 0..3) and two fingers up to y = 23, x = 0..4 (stiffness 100)
-# and x = 6..11 (stiffness 200), apart by the empty column x = 5, which lies inside the coarse cells
-# x = 4..7 of factor 4: a regular grid of those cells has one voxel for both fingers there.
-set(rows "")
-foreach(y RANGE 23)
-  set(row "")
-  foreach(x RANGE 11)
-    if(y LESS 4)
-      string(APPEND row " 150")
-    elseif(x LESS 5)
-      string(APPEND row " 100")
-    elseif(x EQUAL 5)
-      string(APPEND row " 0")
-    else()
-      string(APPEND row " 200")
-    endif()
-  endforeach()
-  string(APPEND rows "${row}\n")
-endforeach()
-file(WRITE ${WORK}/fingers.pgm "P2\n12 24\n255\n${rows}")
+include(${CMAKE_CURRENT_LIST_DIR}/fingers.cmake)
+write_fingers_pgm(${WORK}/fingers.pgm)
 # seed 0 at the tip of the left finger, seed 1 in the palm under the right one
 file(WRITE ${WORK}/seeds.csv "0,23,0\n11,0,0\n")
 file(WRITE ${WORK}/tip.csv "0,23,0\n")

@@ -7,25 +7,8 @@
 cmake_minimum_required(VERSION 3.20)
 include(${CMAKE_CURRENT_LIST_DIR}/common.cmake)
 
-# fingers.pgm, 12 x 24 (branching_cli.cmake's): a palm (y = 0..3) and two fingers up to y = 23,
-# x = 0..4 and x = 6..11, apart by the empty column x = 5 inside the coarse cells x = 4..7 of factor 4
-set(rows "")
-foreach(y RANGE 23)
-  set(row "")
-  foreach(x RANGE 11)
-    if(y LESS 4)
-      string(APPEND row " 150")
-    elseif(x LESS 5)
-      string(APPEND row " 100")
-    elseif(x EQUAL 5)
-      string(APPEND row " 0")
-    else()
-      string(APPEND row " 200")
-    endif()
-  endforeach()
-  string(APPEND rows "${row}\n")
-endforeach()
-file(WRITE ${WORK}/fingers.pgm "P2\n12 24\n255\n${rows}")
+include(${CMAKE_CURRENT_LIST_DIR}/fingers.cmake)
+write_fingers_pgm(${WORK}/fingers.pgm)
 file(WRITE ${WORK}/seeds.csv "0,23,0\n11,0,0\n10,20,2\n")
 set(field --stiffness fingers.pgm --extrude 4 --seeds seeds.csv)
 # points: the left tip, the right tip, a voxel of the gap (empty material: an empty row); the same as
